@@ -1,0 +1,9 @@
+#pragma once
+/// @file core.hpp  Core vocabulary: vectors, boxes, errors, hash RNG, progress, parallel loops.
+#include "fabsynth/core/box.hpp"
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/parallel.hpp"
+#include "fabsynth/core/progress.hpp"
+#include "fabsynth/core/rng.hpp"
+#include "fabsynth/core/types.hpp"
+#include "fabsynth/version.hpp"

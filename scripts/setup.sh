@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs exactly the Debian 12 packages fabsynth needs to build, test and benchmark.
+# Idempotent; run as root (or with sudo) on a fresh machine.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  clang libclang-rt-dev            # libFuzzer + sanitizer runtimes for the fuzz targets
+  libeigen3-dev libglm-dev libnanoflann-dev
+  libstb-dev libtinyobjloader-dev libcli11-dev
+  libpolyclipping-dev libsuitesparse-dev
+  catch2 libbenchmark-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  SUDO=""
+  [[ $(id -u) -ne 0 ]] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+echo "fabsynth: all ${#packages[@]} build packages present"

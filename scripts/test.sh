@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# The whole test suite, as CI runs it (.ci/run calls exactly this):
+#   1. install the Debian packages (scripts/setup.sh),
+#   2. Release build + every test (incl. [slow] ones and the installed-package consumer),
+#   3. each libFuzzer target for a short bounded time (clang),
+#   4. the suite once more under AddressSanitizer + UndefinedBehaviorSanitizer.
+# Any failure, sanitizer report or fuzzer crash fails the run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+jobs=$(nproc)
+
+echo "== Release build and tests"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DFABSYNTH_BUILD_BENCHMARKS=ON >/dev/null
+cmake --build build/release -j "$jobs"
+ctest --test-dir build/release --output-on-failure -j "$jobs"
+
+echo "== Fuzzers (${FABSYNTH_FUZZ_SECONDS:=20} s each)"
+bash scripts/fuzz.sh "$FABSYNTH_FUZZ_SECONDS"
+
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
+cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFABSYNTH_SANITIZE=ON \
+  -DFABSYNTH_BUILD_EXAMPLES=ON -DFABSYNTH_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build build/asan -j "$jobs"
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+ctest --test-dir build/asan --output-on-failure -j "$jobs" -E consumer
