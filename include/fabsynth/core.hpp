@@ -2,6 +2,7 @@
 /// @file core.hpp  Core vocabulary: vectors, boxes, errors, hash RNG, progress, parallel loops.
 #include "fabsynth/core/box.hpp"
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/image.hpp"
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/progress.hpp"
 #include "fabsynth/core/rng.hpp"
