@@ -14,7 +14,14 @@ for fuzzer in build/fuzz/fuzz/fuzz_*; do
   corpus=build/fuzz/corpus/$name
   mkdir -p "$corpus"
   # Seed corpus: the fuzz/corpus/<name>/ files plus bundled data of the matching kind.
-  [[ -d fuzz/corpus/${name#fuzz_} ]] && cp -n fuzz/corpus/"${name#fuzz_}"/* "$corpus"/ 2>/dev/null || true
+  kind=${name#fuzz_}
+  [[ -d fuzz/corpus/$kind ]] && cp -n fuzz/corpus/"$kind"/* "$corpus"/ 2>/dev/null || true
+  case $kind in  # small bundled files of the same format
+    svg) cp -n data/vector/*.svg data/filigree/*.svg "$corpus"/ ;;
+    obj) cp -n data/meshes/cube.obj data/meshes/cube_subdiv.obj "$corpus"/ ;;
+    stl) cp -n data/meshes/cube_ascii.stl "$corpus"/ ;;
+    png) cp -n data/exemplars/*.png "$corpus"/ ;;
+  esac
   echo "-- $name for $seconds s"
   "$fuzzer" "$corpus" -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 -timeout=10 \
     -artifact_prefix=build/fuzz/crashes/"$name"- -print_final_stats=0 2>&1 | tail -n 3

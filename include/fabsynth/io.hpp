@@ -1,0 +1,17 @@
+#pragma once
+/// @file io.hpp  File input/output: meshes (OBJ, STL, PLY), images (PNG, PGM), legacy VTK, SVG.
+///
+/// io/ is the only part of fabsynth that touches files. Every reader parses from memory
+/// (parse_obj, parse_stl, ... take bytes and a name for messages) and rejects malformed input
+/// with fabsynth::io_error naming the file and line or byte offset; every writer writes
+/// atomically (temporary file + rename).
+#include "fabsynth/io/encoding.hpp"
+#include "fabsynth/io/image.hpp"
+#include "fabsynth/io/mesh.hpp"
+#include "fabsynth/io/mesh_obj.hpp"
+#include "fabsynth/io/mesh_ply.hpp"
+#include "fabsynth/io/mesh_stl.hpp"
+#include "fabsynth/io/vtk.hpp"
+#if __has_include("fabsynth/io/svg.hpp")
+#include "fabsynth/io/svg.hpp"
+#endif

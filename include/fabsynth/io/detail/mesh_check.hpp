@@ -1,0 +1,19 @@
+#pragma once
+/// @file mesh_check.hpp  Shared checks for mesh writers.
+#include <limits>
+#include <string>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/geometry/mesh.hpp"
+
+namespace fabsynth::io::detail {
+
+/// Throws invalid_input (naming the output file) unless the mesh has finite vertices, valid
+/// face indices and fewer than 2^31 vertices (so every format can index them).
+inline void check_mesh_for_writing(const triangle_mesh& m, const std::string& file) {
+    if (m.vertices.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+        throw invalid_input(file + ": mesh has too many vertices to write (" + std::to_string(m.vertices.size()) + ")");
+    validate(m, (file + ": mesh to write").c_str());
+}
+
+}  // namespace fabsynth::io::detail
