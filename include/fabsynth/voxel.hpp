@@ -1,0 +1,8 @@
+#pragma once
+/// @file voxel.hpp  Voxel grids (dense / sparse), neighbourhoods, connected components, mesh
+/// voxelization (surface shell and solid) and multi-resolution pyramids.
+#include "fabsynth/voxel/components.hpp"
+#include "fabsynth/voxel/grid.hpp"
+#include "fabsynth/voxel/neighbourhood.hpp"
+#include "fabsynth/voxel/pyramid.hpp"
+#include "fabsynth/voxel/voxelize.hpp"
