@@ -12,6 +12,4 @@
 #include "fabsynth/io/mesh_ply.hpp"
 #include "fabsynth/io/mesh_stl.hpp"
 #include "fabsynth/io/vtk.hpp"
-#if __has_include("fabsynth/io/svg.hpp")
 #include "fabsynth/io/svg.hpp"
-#endif

@@ -1,0 +1,218 @@
+#include <catch2/catch.hpp>
+
+#include <fabsynth/fem/voxel.hpp>
+#include <fabsynth/voxel/grid.hpp>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+using namespace fabsynth;
+using fem::isotropic_material;
+
+namespace {
+
+voxel_grid<double> random_grid(ivec3 dims, std::uint64_t seed, double void_fraction) {
+    voxel_grid<double> g(dims, vec3(0.0), vec3(0.5, 0.7, 0.6), 0.0);
+    for (int k = 0; k < dims.z; ++k)
+        for (int j = 0; j < dims.y; ++j)
+            for (int i = 0; i < dims.x; ++i) {
+                const double u = hash_uniform(seed, i, j, k);
+                g.set({i, j, k}, u < void_fraction ? 0.0 : 0.1 + 0.9 * hash_uniform(seed + 1, i, j, k));
+            }
+    return g;
+}
+
+// Brute-force assembly (triplets, element loop) of the full stiffness matrix: the oracle.
+Eigen::SparseMatrix<double> assemble(const voxel_grid<double>& g, const isotropic_material& m, bool periodic) {
+    const ivec3 c = g.dims();
+    const ivec3 nn = periodic ? c : c + 1;
+    auto node = [&](int i, int j, int k) {
+        if (periodic) i %= nn.x, j %= nn.y, k %= nn.z;
+        return i + nn.x * (j + nn.y * k);
+    };
+    fem::hex8::nodes_t X;
+    const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    for (int a = 0; a < 8; ++a) X[a] = vec3(corner[a][0], corner[a][1], corner[a][2]) * g.spacing();
+    const Eigen::Matrix<double, 24, 24> K = fem::hex8::stiffness(X, m);
+    std::vector<Eigen::Triplet<double>> t;
+    for (int k = 0; k < c.z; ++k)
+        for (int j = 0; j < c.y; ++j)
+            for (int i = 0; i < c.x; ++i) {
+                const double rho = g.get({i, j, k});
+                if (rho == 0) continue;
+                for (int a = 0; a < 8; ++a)
+                    for (int b = 0; b < 8; ++b)
+                        for (int p = 0; p < 3; ++p)
+                            for (int q = 0; q < 3; ++q)
+                                t.emplace_back(3 * node(i + corner[a][0], j + corner[a][1], k + corner[a][2]) + p,
+                                               3 * node(i + corner[b][0], j + corner[b][1], k + corner[b][2]) + q, rho * K(3 * a + p, 3 * b + q));
+            }
+    const int n = 3 * nn.x * nn.y * nn.z;
+    Eigen::SparseMatrix<double> A(n, n);
+    A.setFromTriplets(t.begin(), t.end());
+    return A;
+}
+
+}  // namespace
+
+TEST_CASE("voxel element: rigid modes are free and affine fields give C * volume", "[fem][voxel]") {
+    const isotropic_material m{1000.0, 0.3};
+    const vec3 h(0.5, 0.7, 0.6);
+    const fem::detail::voxel_element el(h, m);
+    const double vol = h.x * h.y * h.z;
+    const Eigen::Matrix<double, 6, 6> C = m.elasticity();
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j)
+            CHECK(el.strain_field[i].dot(el.K * el.strain_field[j]) == Approx(C(i, j) * vol).margin(1e-9 * C(0, 0) * vol));
+    Eigen::Matrix<double, 24, 1> t = Eigen::Matrix<double, 24, 1>::Zero();
+    for (int a = 0; a < 8; ++a) t(3 * a + 1) = 1.0;
+    CHECK((el.K * t).norm() < 1e-9 * el.K.norm());
+    // Galerkin children of a uniform 2x2x2 block = the stiffness of the doubled voxel.
+    Eigen::Matrix<double, 24, 24> sum = Eigen::Matrix<double, 24, 24>::Zero();
+    for (const auto& c : el.child) sum += c;
+    const fem::detail::voxel_element big(2.0 * h, m);
+    CHECK((sum - big.K).norm() < 1e-10 * big.K.norm());
+}
+
+TEST_CASE("matrix-free voxel operator equals the assembled stiffness matrix", "[fem][voxel]") {
+    const isotropic_material m{200.0, 0.3};
+    for (bool periodic : {false, true}) {
+        const auto g = random_grid({5, 4, 6}, 7, 0.3);
+        const Eigen::SparseMatrix<double> A = assemble(g, m, periodic);
+        const fem::detail::voxel_element el(g.spacing(), m);
+        fem::detail::voxel_operator op;
+        op.cells = g.dims();
+        op.nodes = {periodic ? g.dims() : g.dims() + 1, periodic};
+        op.scale = fem::detail::voxel_factors(g, {}, g.dims());
+        op.element = &el;
+        op.state.assign(3 * op.nodes.count(), fem::detail::dof_free);
+        std::vector<double> x(op.state.size()), y(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] = hash_uniform(3, i) - 0.5;
+        op.apply(x, y);
+        const Eigen::VectorXd ref = A * Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+        double err = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) err = std::max(err, std::abs(ref(static_cast<Eigen::Index>(i)) - y[i]));
+        CHECK(err < 1e-10 * ref.cwiseAbs().maxCoeff());
+        // The level-0 stencil assembled from voxel rows matches too.
+        const fem::detail::stencil_operator st = fem::detail::assemble_stencil(op.cells, op.nodes, [&](std::size_t e, int a, bool& any) {
+            any = op.scale[e] != 0;
+            return Eigen::Matrix<double, 3, 24>(op.scale[e] * el.rows[a]);
+        });
+        std::vector<double> y2(x.size());
+        auto st2 = st;
+        st2.state = op.state;
+        st2.apply(x, y2);
+        double err2 = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) err2 = std::max(err2, std::abs(ref(static_cast<Eigen::Index>(i)) - y2[i]));
+        CHECK(err2 < 1e-10 * ref.cwiseAbs().maxCoeff());
+    }
+}
+
+TEST_CASE("uniaxial tension of a voxel bar is exact (sigma L / E, lateral -nu sigma / E)", "[fem][voxel]") {
+    // A homogeneous strain field is reproduced exactly by trilinear hexes with consistent loads.
+    const ivec3 d(12, 6, 5);
+    const double h = 0.5, sigma = 3.0;
+    const isotropic_material m{1500.0, 0.35};
+    voxel_grid<double> g(d, vec3(0.0), h, 1.0);
+    fem::voxel_boundary_conditions bc(d);
+    for (int k = 0; k <= d.z; ++k)
+        for (int j = 0; j <= d.y; ++j) {
+            bc.fix(0, j, k, 1);  // x roller on the left face
+            const double w = (j == 0 || j == d.y ? 0.5 : 1.0) * (k == 0 || k == d.z ? 0.5 : 1.0);
+            bc.add_force(d.x, j, k, {sigma * h * h * w, 0, 0});
+        }
+    bc.fix(0, 0, 0, 7);
+    bc.fix(0, d.y, 0, 4);  // stops rotation about x
+    bc.fix(0, 0, d.z, 2);  // stops rotation about y / z together with the rollers
+    for (auto solver : {fem::voxel_solver::multigrid, fem::voxel_solver::jacobi, fem::voxel_solver::direct}) {
+        fem::voxel_solver_options opt;
+        opt.solver = solver;
+        opt.tolerance = 1e-11;
+        opt.coarsest_dofs = 50;  // force several levels on this small grid
+        const auto sol = fem::solve_voxel_elasticity(g, m, bc, opt);
+        const double L = d.x * h;
+        const vec3 u = sol.displacement[fem::voxel_node_index(d, d.x, d.y, d.z)];
+        CHECK(u.x == Approx(sigma * L / m.E).epsilon(1e-8));
+        CHECK(u.y == Approx(-m.nu * sigma / m.E * d.y * h).epsilon(1e-7));
+        CHECK(u.z == Approx(-m.nu * sigma / m.E * d.z * h).epsilon(1e-7));
+        if (solver == fem::voxel_solver::multigrid) CHECK(sol.stats.levels >= 2);
+    }
+}
+
+TEST_CASE("multigrid, Jacobi-CG and direct agree on a porous cantilever; bit-identical across threads", "[fem][voxel]") {
+    auto g = random_grid({16, 8, 8}, 11, 0.25);
+    for (int k = 0; k < 8; ++k)
+        for (int j = 0; j < 8; ++j) g.set({0, j, k}, 1.0), g.set({1, j, k}, 1.0);
+    for (int i = 0; i < 16; ++i)  // a solid spine keeps everything attached
+        for (int k = 3; k < 5; ++k)
+            for (int j = 3; j < 5; ++j) g.set({i, j, k}, 1.0);
+    // Remove parts that only hang on edges/corners: make every voxel face-adjacent to the spine by
+    // filling the row between it and the spine.
+    for (int k = 0; k < 8; ++k)
+        for (int j = 0; j < 8; ++j)
+            for (int i = 0; i < 16; ++i)
+                if (g.get({i, j, k}) > 0) {
+                    for (int jj = std::min(j, 3); jj <= std::max(j, 4); ++jj)
+                        if (g.get({i, jj, k}) == 0) g.set({i, jj, k}, 0.5);
+                    for (int kk = std::min(k, 3); kk <= std::max(k, 4); ++kk)
+                        if (g.get({i, 3, kk}) == 0) g.set({i, 3, kk}, 0.5);
+                }
+    fem::voxel_boundary_conditions bc(g.dims());
+    for (int k = 0; k <= 8; ++k)
+        for (int j = 0; j <= 8; ++j) bc.fix(0, j, k);
+    bc.add_force(16, 4, 4, {0, 0.3, -1.0});
+    const isotropic_material m = isotropic_material::pla();
+    fem::voxel_solver_options opt;
+    opt.tolerance = 1e-10;
+    opt.coarsest_dofs = 100;
+    opt.solver = fem::voxel_solver::direct;
+    const auto ref = fem::solve_voxel_elasticity(g, m, bc, opt);
+    const double scale = glm::length(ref.displacement[fem::voxel_node_index(g.dims(), 16, 4, 4)]);
+    REQUIRE(scale > 0);
+    for (auto solver : {fem::voxel_solver::multigrid, fem::voxel_solver::jacobi}) {
+        opt.solver = solver;
+        const auto s = fem::solve_voxel_elasticity(g, m, bc, opt);
+        double err = 0;
+        for (std::size_t n = 0; n < s.displacement.size(); ++n) err = std::max(err, glm::length(s.displacement[n] - ref.displacement[n]));
+        CHECK(err < 1e-7 * scale);
+        CHECK(s.compliance == Approx(ref.compliance).epsilon(1e-9));
+    }
+    opt.solver = fem::voxel_solver::multigrid;
+    set_num_threads(1);
+    const auto a = fem::solve_voxel_elasticity(g, m, bc, opt);
+    set_num_threads(2);
+    const auto b = fem::solve_voxel_elasticity(g, m, bc, opt);
+    set_num_threads(0);
+    REQUIRE(a.displacement.size() == b.displacement.size());
+    CHECK(std::memcmp(a.displacement.data(), b.displacement.data(), a.displacement.size() * sizeof(vec3)) == 0);
+    CHECK(a.stats.iterations == b.stats.iterations);
+}
+
+TEST_CASE("voxel FEM rejects bad input and unsupported parts", "[fem][voxel]") {
+    const isotropic_material m{100.0, 0.3};
+    voxel_grid<double> g({4, 4, 4}, vec3(0.0), 1.0, 1.0);
+    fem::voxel_boundary_conditions bc(g.dims());
+    for (int k = 0; k <= 4; ++k)
+        for (int j = 0; j <= 4; ++j) bc.fix(0, j, k);
+    g.set({3, 3, 3}, 1.5);
+    CHECK_THROWS_AS(fem::solve_voxel_elasticity(g, m, bc), invalid_input);
+    g.set({3, 3, 3}, std::nan(""));
+    CHECK_THROWS_AS(fem::solve_voxel_elasticity(g, m, bc), invalid_input);
+    // A voxel hanging on a single edge is an unsupported part.
+    voxel_grid<double> h({4, 4, 4}, vec3(0.0), 1.0, 0.0);
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 2; ++i) h.set({i, j, k}, 1.0);
+    h.set({2, 0, 2}, 1.0);
+    CHECK_THROWS_AS(fem::solve_voxel_elasticity(h, m, bc), solver_error);
+    fem::voxel_boundary_conditions wrong({3, 4, 4});
+    CHECK_THROWS_AS(fem::solve_voxel_elasticity(h, m, wrong), invalid_input);
+    fem::voxel_solver_options bad;
+    bad.tolerance = 0;
+    CHECK_THROWS_AS(fem::solve_voxel_elasticity(g, m, bc, bad), invalid_input);
+    CHECK_THROWS_AS(fem::parse_voxel_solver("magic"), invalid_input);
+}
