@@ -1,0 +1,359 @@
+// foam_slicer: procedural Voronoi foams (Martinez et al. 2016) without ever meshing the foam.
+//
+//   foam_slicer seeds --box X0 Y0 Z0 X1 Y1 Z1 --out SEEDS.csv [foam options]
+//   foam_slicer eval  --points IN.csv --out OUT.csv [foam options]
+//   foam_slicer slice MESH --out-dir DIR [foam options] [field options] [--pixel P] [--layer H]
+//                     [--slices N] [--supersample S] [--frame T] [--cut PX PY PZ NX NY NZ]...
+//                     [--size MM] [--y-up] [--stl-box X0 Y0 Z0 X1 Y1 Z1 --stl-voxel V] [--beams-box X0 Y0 Z0 X1 Y1 Z1]
+//
+// foam options: --density RHO | --density-x RHO0 RHO1 X0 X1, --radius TAU, --cell L, --seed S.
+// slice field options (the field gives seeds/mm^3, or E/Es with --elasticity):
+//   --field-axis AXIS V0 V1 C0 C1        linear along axis 0/1/2 between coordinates C0 and C1
+//   --field-image PNG X0 Y0 X1 Y1 V0 V1   grayscale image on the rectangle [X0,X1]x[Y0,Y1] of every
+//                                         z-plane (row 0 at Y1, i.e. the picture as seen from +z)
+//   --field-surface V_NEAR V_FAR DEPTH     V_NEAR at the surface, linear to V_FAR at DEPTH mm inside
+//   --elasticity                          values are relative Young's moduli E/Es, mapped to density
+//                                         by the PROVISIONAL Gibson-Ashby model (foam/elasticity.hpp)
+//                                         at tau = --radius, until the homogenization fit exists.
+// Outputs of slice: DIR/slice_NNNNN.png (255 = solid), DIR/preview.png, optional DIR/foam.stl
+// (marching cubes of the sub-box) and DIR/beams.vtk (beam network: lines + radius per line).
+#include <CLI/CLI.hpp>
+
+#include <fabsynth/foam.hpp>
+#include <fabsynth/geometry/distance.hpp>
+#include <fabsynth/geometry/marching_cubes.hpp>
+#include <fabsynth/io/image.hpp>
+#include <fabsynth/io/mesh.hpp>
+#include <fabsynth/io/vtk.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace fabsynth;
+using namespace fabsynth::foam;
+
+namespace {
+
+// Runtime-chosen density field (seeds/mm^3), built from the command line.
+struct cli_field {
+    enum class kind { constant, axis, image, surface } k = kind::constant;
+    double v0 = 0.1, v1 = 0.1;  // values (density or E/Es)
+    int axis = 0;
+    double c0 = 0, c1 = 1;      // axis range or surface depth (c0)
+    double x0 = 0, y0 = 0, x1 = 1, y1 = 1;
+    std::shared_ptr<image8> img;
+    std::shared_ptr<mesh_distance> surface;
+    bool elasticity = false, y_up = false;
+    std::shared_ptr<std::vector<double>> e_table;  // E -> rho lookup (provisional model)
+    double e_lo = 0, e_hi = 1;
+
+    [[nodiscard]] double raw(const vec3& p) const {
+        switch (k) {
+            case kind::constant: return v0;
+            case kind::axis: {
+                const double t = std::clamp((p[axis] - c0) / (c1 - c0), 0.0, 1.0);
+                return v0 + (v1 - v0) * t;
+            }
+            case kind::image: {
+                const double u = std::clamp((p.x - x0) / (x1 - x0), 0.0, 1.0), v = std::clamp((y1 - p.y) / (y1 - y0), 0.0, 1.0);
+                const int i = std::min(img->width - 1, static_cast<int>(u * img->width));
+                const int j = std::min(img->height - 1, static_cast<int>(v * img->height));
+                return v0 + (v1 - v0) * img->at(i, j, 0) / 255.0;
+            }
+            case kind::surface: {
+                const double d = std::sqrt(surface->closest(p, c0).dist2);  // inf beyond depth
+                const double t = std::isfinite(d) ? d / c0 : 1.0;
+                return v0 + (v1 - v0) * t;
+            }
+        }
+        return v0;
+    }
+    double operator()(const vec3& p) const {
+        const double v = raw(p);
+        if (!elasticity) return v;
+        // monotone table lookup of the provisional model's inverse
+        const auto& t = *e_table;
+        const double s = std::clamp((v - e_lo) / (e_hi - e_lo), 0.0, 1.0) * static_cast<double>(t.size() - 1);
+        const auto i = std::min(t.size() - 2, static_cast<std::size_t>(s));
+        return t[i] + (t[i + 1] - t[i]) * (s - static_cast<double>(i));
+    }
+};
+
+struct foam_args {
+    double density = 0.2;
+    std::vector<double> density_x;
+    double radius = 0.25;
+    double cell = 2.0;
+    std::uint64_t seed = 1;
+};
+
+void add_foam_options(CLI::App* app, foam_args& a) {
+    auto* d = app->add_option("--density", a.density, "uniform seed density, seeds/mm^3");
+    app->add_option("--density-x", a.density_x, "RHO0 RHO1 X0 X1: density linear in x (constant outside)")
+        ->expected(4)
+        ->excludes(d);
+    app->add_option("--radius", a.radius, "beam radius tau, mm");
+    app->add_option("--cell", a.cell, "coarse cell size L, mm");
+    app->add_option("--seed", a.seed, "global random seed");
+}
+
+cli_field field_from(const foam_args& a) {
+    cli_field f;
+    if (a.density_x.size() == 4) {
+        f.k = cli_field::kind::axis;
+        f.axis = 0;
+        f.v0 = a.density_x[0], f.v1 = a.density_x[1], f.c0 = a.density_x[2], f.c1 = a.density_x[3];
+        if (f.c0 == f.c1) throw invalid_input("--density-x: X0 and X1 must differ");
+    } else {
+        f.v0 = f.v1 = a.density;
+    }
+    return f;
+}
+
+std::vector<vec3> read_points(const fs::path& path) {
+    std::ifstream in(path);
+    if (!in) throw io_error(path.string(), 0, "cannot open");
+    std::vector<vec3> pts;
+    std::string line;
+    std::size_t ln = 0;
+    while (std::getline(in, line)) {
+        ++ln;
+        if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream ss(line);
+        vec3 p;
+        if (!(ss >> p.x >> p.y >> p.z)) throw io_error(path.string(), ln, "expected x,y,z");
+        if (!all_finite(p)) throw io_error(path.string(), ln, "coordinate is not finite");
+        pts.push_back(p);
+    }
+    return pts;
+}
+
+void write_text(const fs::path& path, const std::string& s) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out || !(out << s)) throw io_error(path.string(), 0, "cannot write");
+}
+
+std::string fmt(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"foam_slicer: procedural Voronoi foams (seeds, point evaluation, slicing a mesh)"};
+    app.require_subcommand(1);
+    foam_args fa;
+
+    auto* seeds_cmd = app.add_subcommand("seeds", "write every seed in a box as x,y,z lines");
+    std::vector<double> box;
+    std::string out;
+    seeds_cmd->add_option("--box", box, "X0 Y0 Z0 X1 Y1 Z1 (mm)")->expected(6)->required();
+    seeds_cmd->add_option("--out", out, "output CSV")->required();
+    add_foam_options(seeds_cmd, fa);
+
+    auto* eval_cmd = app.add_subcommand("eval", "evaluate F at x,y,z points: one line 1 (solid) or 0 each");
+    std::string points;
+    eval_cmd->add_option("--points", points, "input CSV of x,y,z lines")->required();
+    eval_cmd->add_option("--out", out, "output file")->required();
+    add_foam_options(eval_cmd, fa);
+
+    auto* slice_cmd = app.add_subcommand("slice", "slice a mesh filled with graded foam into a PNG stack");
+    std::string mesh_path, out_dir;
+    double pixel = 0.05, layer = 0, frame = 0.5, size = 0, stl_voxel = 0.05;
+    int nslices = 0, supersample = 1;
+    std::vector<double> field_axis, field_image_rect, field_surface, stl_box, beams_box, cut_list;
+    std::string field_image;
+    bool elasticity = false, y_up = false;
+    slice_cmd->add_option("mesh", mesh_path, "closed input mesh (.obj/.stl/.ply)")->required()->check(CLI::ExistingFile);
+    slice_cmd->add_option("--out-dir", out_dir, "output directory")->required();
+    add_foam_options(slice_cmd, fa);
+    slice_cmd->add_option("--pixel", pixel, "pixel size, mm");
+    slice_cmd->add_option("--layer", layer, "layer height, mm (default: pixel size)");
+    slice_cmd->add_option("--slices", nslices, "write only N evenly spaced slices (0 = every layer)");
+    slice_cmd->add_option("--supersample", supersample, "S x S samples per pixel (grayscale exposure)");
+    slice_cmd->add_option("--frame", frame, "frame thickness, mm (0 = no frame)");
+    slice_cmd->add_option("--cut", cut_list, "PX PY PZ NX NY NZ: cut plane without frame (keeps n.(x-p) <= 0)")
+        ->expected(6)->take_all()->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    slice_cmd->add_flag("--y-up", y_up, "the mesh is y-up: rotate it so +y becomes +z (build direction)");
+    slice_cmd->add_option("--size", size, "scale the mesh so its longest side is this many mm (0 = as is)");
+    slice_cmd->add_option("--field-axis", field_axis, "AXIS V0 V1 C0 C1")->expected(5);
+    slice_cmd->add_option("--field-image", field_image, "grayscale PNG mapped on a rectangle (see --field-rect)");
+    slice_cmd->add_option("--field-rect", field_image_rect, "X0 Y0 X1 Y1 V0 V1 for --field-image")->expected(6);
+    slice_cmd->add_option("--field-surface", field_surface, "V_NEAR V_FAR DEPTH")->expected(3);
+    slice_cmd->add_flag("--elasticity", elasticity, "field values are E/Es (PROVISIONAL mapping, see --help)");
+    slice_cmd->add_option("--stl-box", stl_box, "X0 Y0 Z0 X1 Y1 Z1: export this sub-box as foam.stl")->expected(6);
+    slice_cmd->add_option("--stl-voxel", stl_voxel, "marching-cubes sample spacing for --stl-box, mm");
+    slice_cmd->add_option("--beams-box", beams_box, "X0 Y0 Z0 X1 Y1 Z1: export the beam network as beams.vtk")
+        ->expected(6);
+
+    CLI11_PARSE(app, argc, argv);
+    try {
+        if (seeds_cmd->parsed() || eval_cmd->parsed()) {
+            const cli_field rho = field_from(fa);
+            const voronoi_foam f(rho, constant_field{fa.radius}, {.cell = fa.cell, .seed = fa.seed});
+            std::string text;
+            if (seeds_cmd->parsed()) {
+                const box3 b({box[0], box[1], box[2]}, {box[3], box[4], box[5]});
+                for (const vec3& s : f.seeds().seeds_in_box(b)) text += fmt(s.x) + "," + fmt(s.y) + "," + fmt(s.z) + "\n";
+            } else {
+                const auto pts = read_points(points);
+                std::vector<char> r(pts.size());
+                parallel_for(0, pts.size(), [&](std::size_t i) { r[i] = f.contains(pts[i]) ? '1' : '0'; },
+                             {.grain = 256});
+                text.reserve(2 * pts.size());
+                for (char c : r) text += c, text += '\n';
+            }
+            write_text(out, text);
+            return 0;
+        }
+
+        // ---- slice ----
+        triangle_mesh mesh = io::read_mesh(mesh_path);
+        validate(mesh, mesh_path.c_str());
+        if (y_up)
+            for (auto& v : mesh.vertices) v = vec3(v.x, -v.z, v.y);  // rotation about x: keeps orientation
+        if (size > 0) {
+            const box3 bb = bounding_box(mesh);
+            const double s = size / std::max({bb.size().x, bb.size().y, bb.size().z});
+            for (auto& v : mesh.vertices) v = (v - bb.lo) * s;
+        }
+        const auto md = std::make_shared<mesh_distance>(mesh);
+        md->require_watertight();
+        cli_field field = field_from(fa);
+        if (field_axis.size() == 5) {
+            field.k = cli_field::kind::axis;
+            field.axis = static_cast<int>(field_axis[0]);
+            if (field.axis < 0 || field.axis > 2) throw invalid_input("--field-axis: AXIS must be 0, 1 or 2");
+            field.v0 = field_axis[1], field.v1 = field_axis[2], field.c0 = field_axis[3], field.c1 = field_axis[4];
+            if (field.c0 == field.c1) throw invalid_input("--field-axis: C0 and C1 must differ");
+        } else if (!field_image.empty()) {
+            if (field_image_rect.size() != 6) throw invalid_input("--field-image needs --field-rect X0 Y0 X1 Y1 V0 V1");
+            field.k = cli_field::kind::image;
+            field.img = std::make_shared<image8>(io::read_png(field_image));
+            field.x0 = field_image_rect[0], field.y0 = field_image_rect[1], field.x1 = field_image_rect[2];
+            field.y1 = field_image_rect[3], field.v0 = field_image_rect[4], field.v1 = field_image_rect[5];
+            if (field.x0 >= field.x1 || field.y0 >= field.y1) throw invalid_input("--field-rect: need X0 < X1 and Y0 < Y1");
+        } else if (field_surface.size() == 3) {
+            field.k = cli_field::kind::surface;
+            field.surface = md;
+            field.v0 = field_surface[0], field.v1 = field_surface[1], field.c0 = field_surface[2];
+            require_positive(field.c0, "--field-surface DEPTH");
+        }
+        if (elasticity) {
+            field.elasticity = true;
+            const provisional_elasticity_model model;
+            field.e_lo = std::min(field.v0, field.v1), field.e_hi = std::max(field.v0, field.v1);
+            if (field.e_hi == field.e_lo) field.e_hi = field.e_lo + 1e-12;
+            auto t = std::make_shared<std::vector<double>>(257);
+            for (std::size_t i = 0; i < t->size(); ++i) {
+                const double e = field.e_lo + (field.e_hi - field.e_lo) * static_cast<double>(i) / 256.0;
+                (*t)[i] = inverse_elasticity(model, e, fa.radius).density;
+            }
+            field.e_table = t;
+            std::cerr << "note: --elasticity uses the PROVISIONAL Gibson-Ashby model, not a homogenization fit\n";
+        }
+        const voronoi_foam foam(field, constant_field{fa.radius}, {.cell = fa.cell, .seed = fa.seed});
+        frame_options fo{.thickness = frame, .cuts = {}};
+        for (std::size_t i = 0; i + 5 < cut_list.size(); i += 6)
+            fo.cuts.push_back({{cut_list[i], cut_list[i + 1], cut_list[i + 2]}, {cut_list[i + 3], cut_list[i + 4], cut_list[i + 5]}});
+        const framed_foam obj(foam, *md, fo);
+
+        fs::create_directories(out_dir);
+        const box3 bb = bounding_box(mesh);
+        if (layer <= 0) layer = pixel;
+        require_positive(pixel, "--pixel");
+        const box2 region(vec2(bb.lo.x, bb.lo.y) - vec2(pixel), vec2(bb.hi.x, bb.hi.y) + vec2(pixel));
+        const int layers = std::max(1, static_cast<int>(std::floor(bb.size().z / layer)));
+        std::vector<int> which;
+        if (nslices > 0) {
+            for (int s = 0; s < nslices; ++s) which.push_back(static_cast<int>((s + 0.5) * layers / nslices));
+        } else {
+            for (int s = 0; s < layers; ++s) which.push_back(s);
+        }
+        const slice_options so{.supersample = supersample, .tile = 64};
+        std::uint64_t pixels = 0, solid = 0;
+        double total_ms = 0;
+        std::vector<image8> preview;
+        for (std::size_t s = 0; s < which.size(); ++s) {
+            const double z = bb.lo.z + (which[s] + 0.5) * layer;
+            const auto t0 = std::chrono::steady_clock::now();
+            const image8 img = obj.slice(z, region, pixel, so);
+            total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            pixels += img.data.size();
+            for (auto v : img.data) solid += v;
+            char name[64];
+            std::snprintf(name, sizeof name, "slice_%05d.png", which[s]);
+            io::write_png(fs::path(out_dir) / name, img);
+            // preview: 4 slices spread over the stack
+            if (preview.size() < 4 && s == (preview.size() * which.size()) / 4) preview.push_back(img);
+            std::cerr << "\rslice " << (s + 1) << "/" << which.size() << std::flush;
+        }
+        std::cerr << "\n";
+        // preview: up to 4 slices side by side
+        if (!preview.empty()) {
+            const int w = preview[0].width, h = preview[0].height;
+            image8 p(w * static_cast<int>(preview.size()) + 4 * static_cast<int>(preview.size() - 1), h, 1, 128);
+            for (std::size_t k = 0; k < preview.size(); ++k)
+                for (int j = 0; j < h; ++j)
+                    for (int i = 0; i < w; ++i)
+                        p.at(static_cast<int>(k) * (w + 4) + i, h - 1 - j) = preview[k].at(i, j);  // +y up
+            io::write_png(fs::path(out_dir) / "preview.png", p);
+        }
+        if (stl_box.size() == 6) {
+            const box3 sb({stl_box[0], stl_box[1], stl_box[2]}, {stl_box[3], stl_box[4], stl_box[5]});
+            require_positive(stl_voxel, "--stl-voxel");
+            const ivec3 dims = ivec3(glm::ceil(sb.size() / stl_voxel)) + 3;  // one outside sample per side
+            if (double(dims.x) * dims.y * dims.z > 2e8) throw invalid_input("--stl-box: too many samples; raise --stl-voxel");
+            const vec3 origin = sb.lo - vec3(stl_voxel);
+            const double tau = fa.radius, reach = std::min(fa.cell, tau + 2 * stl_voxel);
+            // g < 0 inside: max(mesh sd, cuts, min(-(sd + frame), foam distance - tau)), +v at the border
+            auto g = [&](ivec3 p) -> double {
+                if (glm::any(glm::equal(p, ivec3(0))) || glm::any(glm::equal(p, dims - 1))) return stl_voxel;
+                const vec3 q = origin + vec3(p) * stl_voxel;
+                if (!sb.contains(q)) return stl_voxel;
+                const double sd = md->signed_distance(q);
+                double v = sd;
+                for (const auto& c : fo.cuts) v = std::max(v, glm::dot(q - c.point, glm::normalize(c.normal)));
+                const double fd = foam.distance_to_edges(q, reach);
+                const double foam_v = (std::isfinite(fd) ? fd : reach) - tau;
+                const double frame_v = frame > 0 ? -(sd + frame) : 1e9;
+                return std::max(v, std::min(frame_v, foam_v));
+            };
+            const triangle_mesh m = marching_cubes(g, dims, origin, vec3(stl_voxel));
+            io::write_mesh(fs::path(out_dir) / "foam.stl", m);
+            std::cerr << "foam.stl: " << m.faces.size() << " triangles\n";
+        }
+        if (beams_box.size() == 6) {
+            const box3 b({beams_box[0], beams_box[1], beams_box[2]}, {beams_box[3], beams_box[4], beams_box[5]});
+            const beam_network net = extract_beams(foam, b);
+            std::vector<io::vtk_cell> cells;
+            for (const auto& e : net.edges) cells.push_back({io::vtk_cell_type::line, {e[0], e[1]}});
+            io::write_vtk_unstructured(fs::path(out_dir) / "beams.vtk", net.nodes, cells, {},
+                                       {io::vtk_field{"radius", 1, net.radii}}, io::encoding::ascii);
+            std::cerr << "beams.vtk: " << net.nodes.size() << " nodes, " << net.edges.size() << " beams\n";
+        }
+        const double ms = total_ms / static_cast<double>(which.size());
+        std::printf("foam_slicer: %zu slices of %dx%d px (%.3f mm), %llu voxels, solid volume %.2f%%, %.1f ms/slice, %.2f Mpixel/s\n",
+                    which.size(), static_cast<int>(std::ceil((region.hi.x - region.lo.x) / pixel - 1e-9)),
+                    static_cast<int>(std::ceil((region.hi.y - region.lo.y) / pixel - 1e-9)), pixel,
+                    static_cast<unsigned long long>(pixels), 100.0 * double(solid) / 255.0 / double(std::max<std::uint64_t>(1, pixels)),
+                    ms, double(pixels) / (total_ms * 1e3));
+        return 0;
+    } catch (const fabsynth::error& e) {
+        std::cerr << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,53 @@
+#pragma once
+/// @file fields.hpp  Scalar fields that drive a Voronoi foam: seed density rho(x) (seeds/mm^3) and
+/// beam radius tau(x) (mm).
+///
+/// Any callable `double f(const vec3& x)` is a field (concept `scalar_field`). The two ready-made
+/// fields below also report their maximum, which the foam needs as a certified bound on tau.
+#include <algorithm>
+#include <concepts>
+#include <string>
+#include <type_traits>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/types.hpp"
+
+namespace fabsynth::foam {
+
+/// A field: callable as f(vec3 x [mm]) -> double. Expected O(1) and thread-safe (called concurrently).
+template <class F>
+concept scalar_field = std::invocable<const F&, const vec3&> &&
+                       std::convertible_to<std::invoke_result_t<const F&, const vec3&>, double>;
+
+/// A field that also knows an upper bound of its values over all space: f.max_value() -> double.
+template <class F>
+concept bounded_field = scalar_field<F> && requires(const F& f) {
+    { f.max_value() } -> std::convertible_to<double>;
+};
+
+/// The same value everywhere.
+struct constant_field {
+    double value = 0;
+    [[nodiscard]] constexpr double operator()(const vec3&) const noexcept { return value; }
+    [[nodiscard]] constexpr double max_value() const noexcept { return value; }
+};
+
+/// Linear ramp along one axis: v0 at coordinate x0, v1 at x1, constant outside [x0, x1].
+struct linear_field {
+    int axis = 0;  ///< 0 = x, 1 = y, 2 = z
+    double v0 = 0, v1 = 0;
+    double x0 = 0, x1 = 1;  ///< mm, x0 != x1
+    [[nodiscard]] double operator()(const vec3& p) const noexcept {
+        const double t = std::clamp((p[axis] - x0) / (x1 - x0), 0.0, 1.0);
+        return v0 + (v1 - v0) * t;
+    }
+    [[nodiscard]] double max_value() const noexcept { return std::max(v0, v1); }
+    /// Throws invalid_input naming `what` on a bad axis, equal ends or non-finite values.
+    void validate(const char* what) const {
+        if (axis < 0 || axis > 2) throw invalid_input(std::string(what) + ": axis must be 0, 1 or 2");
+        require_finite(v0, what), require_finite(v1, what), require_finite(x0, what), require_finite(x1, what);
+        if (x0 == x1) throw invalid_input(std::string(what) + ": ramp ends x0 and x1 must differ");
+    }
+};
+
+}  // namespace fabsynth::foam

@@ -1,0 +1,9 @@
+#pragma once
+/// @file geometry.hpp  Geometry building blocks: meshes, polygons, Clipper booleans, distances,
+/// marching cubes and mesh topology.
+#include "fabsynth/geometry/clip.hpp"
+#include "fabsynth/geometry/distance.hpp"
+#include "fabsynth/geometry/marching_cubes.hpp"
+#include "fabsynth/geometry/mesh.hpp"
+#include "fabsynth/geometry/mesh_topology.hpp"
+#include "fabsynth/geometry/polygon.hpp"
