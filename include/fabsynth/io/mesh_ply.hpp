@@ -367,12 +367,7 @@ inline std::string format_ply(const triangle_mesh& m, encoding enc = encoding::b
 /// invalid meshes or (binary) coordinates beyond float range.
 inline void write_ply(const std::filesystem::path& path, const triangle_mesh& m, encoding enc = encoding::binary) {
     detail::check_mesh_for_writing(m, path.string());
-    if (enc == encoding::binary)
-        for (const vec3& v : m.vertices)
-            for (int a = 0; a < 3; ++a)
-                if (!std::isfinite(static_cast<float>(v[a])))
-                    throw invalid_input(path.string() + ": coordinate " + std::to_string(v[a]) +
-                                        " does not fit a float (binary PLY)");
+    if (enc == encoding::binary) detail::check_fits_float(m, path.string(), "binary PLY");
     detail::atomic_write(path, format_ply(m, enc));
 }
 

@@ -206,12 +206,7 @@ inline std::string format_stl(const triangle_mesh& m, encoding enc = encoding::b
 /// they are refused with invalid_input. Throws invalid_input for invalid meshes.
 inline void write_stl(const std::filesystem::path& path, const triangle_mesh& m, encoding enc = encoding::binary) {
     detail::check_mesh_for_writing(m, path.string());
-    if (enc == encoding::binary)
-        for (const vec3& v : m.vertices)
-            for (int a = 0; a < 3; ++a)
-                if (!std::isfinite(static_cast<float>(v[a])))
-                    throw invalid_input(path.string() + ": coordinate " + std::to_string(v[a]) +
-                                        " does not fit a float (binary STL)");
+    if (enc == encoding::binary) detail::check_fits_float(m, path.string(), "binary STL");
     detail::atomic_write(path, format_stl(m, enc));
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 /// @file mesh_check.hpp  Shared checks for mesh writers.
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -14,6 +15,14 @@ inline void check_mesh_for_writing(const triangle_mesh& m, const std::string& fi
     if (m.vertices.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
         throw invalid_input(file + ": mesh has too many vertices to write (" + std::to_string(m.vertices.size()) + ")");
     validate(m, (file + ": mesh to write").c_str());
+}
+
+/// Binary formats store float32: a coordinate beyond float range would become inf, so refuse it.
+inline void check_fits_float(const triangle_mesh& m, const std::string& file, const char* format) {
+    for (const vec3& v : m.vertices)
+        for (int a = 0; a < 3; ++a)
+            if (!std::isfinite(static_cast<float>(v[a])))
+                throw invalid_input(file + ": coordinate " + std::to_string(v[a]) + " does not fit a float (" + format + ")");
 }
 
 }  // namespace fabsynth::io::detail
