@@ -6,44 +6,15 @@
 #include "fabsynth/foam/frame.hpp"
 #include "fabsynth/voxel/components.hpp"
 #include "fabsynth/voxel/grid.hpp"
+#include "support/sphere_mesh.hpp"
 
 using namespace fabsynth;
 using namespace fabsynth::foam;
 
-namespace {
-triangle_mesh sphere(double r, int n) {
-    triangle_mesh m;
-    m.vertices = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    m.faces = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
-    for (int it = 0; it < n; ++it) {
-        triangle_mesh o;
-        o.vertices = m.vertices;
-        std::vector<std::pair<std::uint64_t, std::uint32_t>> mids;
-        auto mid = [&](std::uint32_t a, std::uint32_t b) {
-            const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-            for (auto& [k, v] : mids)
-                if (k == key) return v;
-            o.vertices.push_back(glm::normalize(m.vertices[a] + m.vertices[b]));
-            mids.push_back({key, static_cast<std::uint32_t>(o.vertices.size() - 1)});
-            return mids.back().second;
-        };
-        for (const auto& t : m.faces) {
-            const std::uint32_t a = mid(t[0], t[1]), b = mid(t[1], t[2]), c = mid(t[2], t[0]);
-            o.faces.push_back({t[0], a, c});
-            o.faces.push_back({a, t[1], b});
-            o.faces.push_back({c, b, t[2]});
-            o.faces.push_back({a, b, c});
-        }
-        m = std::move(o);
-    }
-    for (auto& v : m.vertices) v = glm::normalize(v) * r;
-    return m;
-}
-}  // namespace
 
 TEST_CASE("frame + foam form one connected solid", "[foam][frame]") {
     const double R = 4.0, vox = 0.1;
-    const mesh_distance md(sphere(R, 4));
+    const mesh_distance md(test::sphere_mesh(R, 4));
     const voronoi_foam foam(constant_field{0.15}, constant_field{0.25}, {.cell = 3, .seed = 9});
     const framed_foam obj(foam, md, {.thickness = 0.4, .cuts = {}});
     const int n = static_cast<int>(std::ceil(2 * (R + 0.2) / vox));
@@ -84,7 +55,7 @@ TEST_CASE("frame + foam form one connected solid", "[foam][frame]") {
 }
 
 TEST_CASE("frame: point queries agree with slices; cut planes have no frame", "[foam][frame]") {
-    const mesh_distance md(sphere(3.0, 3));
+    const mesh_distance md(test::sphere_mesh(3.0, 3));
     const voronoi_foam foam(constant_field{0.3}, constant_field{0.2}, {.cell = 2, .seed = 4});
     const framed_foam obj(foam, md, {.thickness = 0.3, .cuts = {{{0, 0, 0.5}, {0, 0, 1}}}});
     const double pix = 0.07;
@@ -110,12 +81,12 @@ TEST_CASE("frame: point queries agree with slices; cut planes have no frame", "[
 }
 
 TEST_CASE("frame bad input", "[foam][frame]") {
-    triangle_mesh open = sphere(1, 1);
+    triangle_mesh open = test::sphere_mesh(1, 1);
     open.faces.pop_back();
     const mesh_distance md(open);
     const voronoi_foam foam(constant_field{0.3}, constant_field{0.2}, {});
     CHECK_THROWS_AS(framed_foam(foam, md, {}), invalid_input);
-    const mesh_distance ok(sphere(1, 1));
+    const mesh_distance ok(test::sphere_mesh(1, 1));
     CHECK_THROWS_AS(framed_foam(foam, ok, {.thickness = -1, .cuts = {}}), invalid_input);
     CHECK_THROWS_AS(framed_foam(foam, ok, {.thickness = NAN, .cuts = {}}), invalid_input);
     CHECK_THROWS_AS(framed_foam(foam, ok, {.thickness = 0.1, .cuts = {{{0, 0, 0}, {0, 0, 0}}}}), invalid_input);
