@@ -63,6 +63,24 @@ struct node_grid {
         {.grain = 8192});
 }
 
+/// Calls f(a, c, e) for each voxel c (linear index e) that has node p as its local corner a,
+/// wrapping periodic axes and skipping voxels outside a non-periodic grid; a ascends 0..7.
+template <class F>
+void for_each_voxel_around_node(const ivec3& cells, const node_grid& nodes, const ivec3& p, F&& f) {
+    for (int a = 0; a < 8; ++a) {
+        ivec3 c = p - ivec3(voxel_corner[a][0], voxel_corner[a][1], voxel_corner[a][2]);
+        bool inside = true;
+        for (int k = 0; k < 3; ++k) {
+            if (nodes.periodic) c[k] = wrap_index(c[k], cells[k]);
+            else if (c[k] < 0 || c[k] >= cells[k]) inside = false;
+        }
+        if (!inside) continue;
+        const std::size_t e = static_cast<std::size_t>(c.x) +
+                              static_cast<std::size_t>(cells.x) * (static_cast<std::size_t>(c.y) + static_cast<std::size_t>(cells.y) * static_cast<std::size_t>(c.z));
+        f(a, c, e);
+    }
+}
+
 /// Stiffness of a grid of identical box voxels, each scaled by a per-voxel factor (0 = void),
 /// applied without assembling: y_n = sum over the <= 8 voxels at node n of s_e K_e[n rows] u_e.
 struct voxel_operator {
@@ -72,22 +90,12 @@ struct voxel_operator {
     const voxel_element* element = nullptr;
     std::vector<std::uint8_t> state;    ///< per DOF
 
-    /// Node coordinates of corner b of voxel c (wrapped).
+    /// for_each_voxel_around_node restricted to solid voxels (scale != 0).
     template <class F>
     void for_each_voxel_at_node(ivec3 p, F&& f) const {
-        for (int a = 0; a < 8; ++a) {
-            ivec3 c = p - ivec3(voxel_corner[a][0], voxel_corner[a][1], voxel_corner[a][2]);
-            bool inside = true;
-            for (int k = 0; k < 3; ++k) {
-                if (nodes.periodic) c[k] = wrap_index(c[k], cells[k]);
-                else if (c[k] < 0 || c[k] >= cells[k]) inside = false;
-            }
-            if (!inside) continue;
-            const std::size_t e = static_cast<std::size_t>(c.x) +
-                                  static_cast<std::size_t>(cells.x) * (static_cast<std::size_t>(c.y) + static_cast<std::size_t>(cells.y) * static_cast<std::size_t>(c.z));
-            if (scale[e] == 0.0) continue;
-            f(a, c, e);
-        }
+        for_each_voxel_around_node(cells, nodes, p, [&](int a, ivec3 c, std::size_t e) {
+            if (scale[e] != 0.0) f(a, c, e);
+        });
     }
     /// Node indices of the 8 corners of voxel c.
     [[nodiscard]] std::array<std::size_t, 8> voxel_nodes(ivec3 c) const noexcept {
@@ -242,21 +250,11 @@ stencil_operator assemble_stencil(const ivec3& cells, const node_grid& nodes, Ro
     op.S.assign(243 * nodes.count(), 0.0);
     op.state.assign(3 * nodes.count(), dof_free);
     parallel_for(0, nodes.count(), [&](std::size_t n) {
-        const ivec3 p = nodes.coords(n);
-        for (int a = 0; a < 8; ++a) {
+        for_each_voxel_around_node(cells, nodes, nodes.coords(n), [&](int a, ivec3, std::size_t e) {
             const ivec3 off(voxel_corner[a][0], voxel_corner[a][1], voxel_corner[a][2]);
-            ivec3 c = p - off;
-            bool inside = true;
-            for (int k = 0; k < 3; ++k) {
-                if (nodes.periodic) c[k] = wrap_index(c[k], cells[k]);
-                else if (c[k] < 0 || c[k] >= cells[k]) inside = false;
-            }
-            if (!inside) continue;
-            const std::size_t e = static_cast<std::size_t>(c.x) +
-                                  static_cast<std::size_t>(cells.x) * (static_cast<std::size_t>(c.y) + static_cast<std::size_t>(cells.y) * static_cast<std::size_t>(c.z));
             bool any = false;
             const Eigen::Matrix<double, 3, 24> R = rows(e, a, any);
-            if (!any) continue;
+            if (!any) return;
             for (int b = 0; b < 8; ++b) {
                 // Unwrapped offset from node p to corner b of the voxel.
                 const int slot = stencil_slot(voxel_corner[b][0] - off.x, voxel_corner[b][1] - off.y, voxel_corner[b][2] - off.z);
@@ -264,7 +262,7 @@ stencil_operator assemble_stencil(const ivec3& cells, const node_grid& nodes, Ro
                 for (int r = 0; r < 3; ++r)
                     for (int cc = 0; cc < 3; ++cc) B[3 * r + cc] += R(r, 3 * b + cc);
             }
-        }
+        });
     }, {.grain = 128});
     return op;
 }
