@@ -22,13 +22,17 @@
 
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/fem/detail/isoparametric.hpp"
+#include "fabsynth/fem/detail/isoparametric_solid.hpp"
 #include "fabsynth/fem/detail/quadrature.hpp"
 #include "fabsynth/fem/element.hpp"
 #include "fabsynth/fem/material.hpp"
 
 namespace fabsynth::fem {
 
-struct hex8 {
+struct hex8 : detail::isoparametric_solid<hex8, 8, 8> {
+    static constexpr const char* name = "hex8";
+    /// Full 2x2x2 Gauss (order: xi fastest, then eta, then zeta; each -1/sqrt3 before +1/sqrt3).
+    static const auto& quadrature() { return detail::gauss_2x2x2(); }
     static constexpr int num_nodes = 8, dofs_per_node = 3, vtk_type = 12;
     using nodes_t = std::array<vec3, 8>;
     using properties_t = isotropic_material;
@@ -58,59 +62,8 @@ struct hex8 {
         }
         return d;
     }
-    /// det of the Jacobian dx/dxi at xi (throws invalid_input if <= 0).
-    static double jacobian_det(const nodes_t& X, const vec3& xi) {
-        return detail::map_derivatives<8>(X, shape_derivatives(xi), "hex8").detJ;
-    }
-    /// 6 x 24 strain-displacement matrix B at natural coordinates xi in [-1,1]^3: eps = B * ue.
-    static Eigen::Matrix<double, 6, 24> strain_displacement(const nodes_t& X, const vec3& xi) {
-        return detail::voigt_b<8>(detail::map_derivatives<8>(X, shape_derivatives(xi), "hex8").dN);
-    }
-    /// 24 x 24 stiffness matrix [N/mm], full 2x2x2 Gauss integration.
-    static matrix_t stiffness(const nodes_t& X, const isotropic_material& m) {
-        m.validate();  // a NaN modulus must not turn into a silent NaN matrix
-        const Eigen::Matrix<double, 6, 6> C = m.elasticity();
-        matrix_t K = matrix_t::Zero();
-        for (const auto& q : detail::gauss_2x2x2()) {
-            const auto p = detail::map_derivatives<8>(X, shape_derivatives(q.xi), "hex8");
-            const Eigen::Matrix<double, 6, 24> B = detail::voigt_b<8>(p.dN);
-            K.noalias() += B.transpose() * (C * B) * (p.detJ * q.weight);
-        }
-        return 0.5 * (K + K.transpose());  // exact symmetry for the sparse solvers
-    }
-    /// Consistent nodal loads [N] of a uniform force per volume [N/mm^3] (e.g. density * g).
-    static vector_t body_force(const nodes_t& X, const vec3& force_per_volume) {
-        vector_t f = vector_t::Zero();
-        for (const auto& q : detail::gauss_2x2x2()) {
-            const double w = jacobian_det(X, q.xi) * q.weight;
-            const Eigen::Matrix<double, 8, 1> N = shape(q.xi);
-            for (int a = 0; a < 8; ++a)
-                for (int i = 0; i < 3; ++i) f(3 * a + i) += N(a) * force_per_volume[i] * w;
-        }
-        return f;
-    }
-    /// Same as body_force(X, b) (the material is not needed); form required by finite_element.
-    static vector_t body_force(const nodes_t& X, const isotropic_material&, const vec3& force_per_volume) {
-        return body_force(X, force_per_volume);
-    }
-    /// Cauchy stress [MPa] at natural coordinates xi for element displacements ue [mm].
-    static voigt6 stress(const nodes_t& X, const isotropic_material& m, const vector_t& ue, const vec3& xi) {
-        return m.elasticity() * (strain_displacement(X, xi) * ue);
-    }
     /// Natural coordinates of the centroid.
     static constexpr vec3 centroid() { return vec3(0.0); }
-    /// The 8 Gauss points (order: xi fastest, then eta, then zeta; each -1/sqrt3 before +1/sqrt3).
-    static std::array<vec3, 8> stress_points() {
-        std::array<vec3, 8> r{};
-        for (int i = 0; i < 8; ++i) r[i] = detail::gauss_2x2x2()[i].xi;
-        return r;
-    }
-    /// Volume [mm^3] (2x2x2 Gauss is exact for the trilinear map's Jacobian).
-    static double volume(const nodes_t& X, const isotropic_material& = {}) {
-        double v = 0;
-        for (const auto& q : detail::gauss_2x2x2()) v += jacobian_det(X, q.xi) * q.weight;
-        return v;
-    }
 };
 
 static_assert(finite_element<hex8>);

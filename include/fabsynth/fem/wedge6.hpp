@@ -18,13 +18,17 @@
 
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/fem/detail/isoparametric.hpp"
+#include "fabsynth/fem/detail/isoparametric_solid.hpp"
 #include "fabsynth/fem/detail/quadrature.hpp"
 #include "fabsynth/fem/element.hpp"
 #include "fabsynth/fem/material.hpp"
 
 namespace fabsynth::fem {
 
-struct wedge6 {
+struct wedge6 : detail::isoparametric_solid<wedge6, 6, 6> {
+    static constexpr const char* name = "wedge6";
+    /// 3-point triangle rule x 2-point Gauss (see the file comment for exactness).
+    static const auto& quadrature() { return detail::wedge_3x2(); }
     static constexpr int num_nodes = 6, dofs_per_node = 3, vtk_type = 13;
     using nodes_t = std::array<vec3, 6>;
     using properties_t = isotropic_material;
@@ -50,53 +54,7 @@ struct wedge6 {
         }
         return d;
     }
-    static double jacobian_det(const nodes_t& X, const vec3& xi) {
-        return detail::map_derivatives<6>(X, shape_derivatives(xi), "wedge6").detJ;
-    }
-    /// 6 x 18 strain-displacement matrix at natural coordinates xi = (r, s, zeta).
-    static Eigen::Matrix<double, 6, 18> strain_displacement(const nodes_t& X, const vec3& xi) {
-        return detail::voigt_b<6>(detail::map_derivatives<6>(X, shape_derivatives(xi), "wedge6").dN);
-    }
-    /// 18 x 18 stiffness matrix [N/mm].
-    static matrix_t stiffness(const nodes_t& X, const isotropic_material& m) {
-        m.validate();
-        const Eigen::Matrix<double, 6, 6> C = m.elasticity();
-        matrix_t K = matrix_t::Zero();
-        for (const auto& q : detail::wedge_3x2()) {
-            const auto p = detail::map_derivatives<6>(X, shape_derivatives(q.xi), "wedge6");
-            const Eigen::Matrix<double, 6, 18> B = detail::voigt_b<6>(p.dN);
-            K.noalias() += B.transpose() * (C * B) * (p.detJ * q.weight);
-        }
-        return 0.5 * (K + K.transpose());
-    }
-    /// Consistent nodal loads [N] of a uniform force per volume [N/mm^3].
-    static vector_t body_force(const nodes_t& X, const vec3& force_per_volume) {
-        vector_t f = vector_t::Zero();
-        for (const auto& q : detail::wedge_3x2()) {
-            const double w = jacobian_det(X, q.xi) * q.weight;
-            const Eigen::Matrix<double, 6, 1> N = shape(q.xi);
-            for (int a = 0; a < 6; ++a)
-                for (int i = 0; i < 3; ++i) f(3 * a + i) += N(a) * force_per_volume[i] * w;
-        }
-        return f;
-    }
-    static vector_t body_force(const nodes_t& X, const isotropic_material&, const vec3& force_per_volume) {
-        return body_force(X, force_per_volume);
-    }
-    static voigt6 stress(const nodes_t& X, const isotropic_material& m, const vector_t& ue, const vec3& xi) {
-        return m.elasticity() * (strain_displacement(X, xi) * ue);
-    }
     static constexpr vec3 centroid() { return vec3(1.0 / 3, 1.0 / 3, 0.0); }
-    static std::array<vec3, 6> stress_points() {
-        std::array<vec3, 6> r{};
-        for (int i = 0; i < 6; ++i) r[i] = detail::wedge_3x2()[i].xi;
-        return r;
-    }
-    static double volume(const nodes_t& X, const isotropic_material& = {}) {
-        double v = 0;
-        for (const auto& q : detail::wedge_3x2()) v += jacobian_det(X, q.xi) * q.weight;
-        return v;
-    }
 };
 
 static_assert(finite_element<wedge6>);
