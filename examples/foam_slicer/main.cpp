@@ -13,8 +13,10 @@
 //                                         z-plane (row 0 at Y1, i.e. the picture as seen from +z)
 //   --field-surface V_NEAR V_FAR DEPTH     V_NEAR at the surface, linear to V_FAR at DEPTH mm inside
 //   --elasticity                          values are relative Young's moduli E/Es, mapped to density
-//                                         by the PROVISIONAL Gibson-Ashby model (foam/elasticity.hpp)
-//                                         at tau = --radius, until the homogenization fit exists.
+//                                         at tau = --radius by the shipped homogenization fit
+//                                         E = P(rho, tau) (foam/elasticity_fit.hpp, paper §4.2);
+//                                         --radius must lie in the fitted radius range, and targets
+//                                         outside the reachable range are clamped (with a note).
 // Outputs of slice: DIR/slice_NNNNN.png (255 = solid), DIR/preview.png, optional DIR/foam.stl
 // (marching cubes of the sub-box) and DIR/beams.vtk (beam network: lines + radius per line).
 #include <CLI/CLI.hpp>
@@ -54,7 +56,7 @@ struct cli_field {
     std::shared_ptr<image8> img;
     std::shared_ptr<mesh_distance> surface;
     bool elasticity = false, y_up = false;
-    std::shared_ptr<std::vector<double>> e_table;  // E -> rho lookup (provisional model)
+    std::shared_ptr<std::vector<double>> e_table;  // E -> rho lookup (fitted model, §4.2)
     double e_lo = 0, e_hi = 1;
 
     [[nodiscard]] double raw(const vec3& p) const {
@@ -81,7 +83,7 @@ struct cli_field {
     double operator()(const vec3& p) const {
         const double v = raw(p);
         if (!elasticity) return v;
-        // monotone table lookup of the provisional model's inverse
+        // monotone table lookup of the fitted model's inverse
         const auto& t = *e_table;
         const double s = std::clamp((v - e_lo) / (e_hi - e_lo), 0.0, 1.0) * static_cast<double>(t.size() - 1);
         const auto i = std::min(t.size() - 2, static_cast<std::size_t>(s));
@@ -193,7 +195,7 @@ int main(int argc, char** argv) {
     slice_cmd->add_option("--field-image", field_image, "grayscale PNG mapped on a rectangle (see --field-rect)");
     slice_cmd->add_option("--field-rect", field_image_rect, "X0 Y0 X1 Y1 V0 V1 for --field-image")->expected(6);
     slice_cmd->add_option("--field-surface", field_surface, "V_NEAR V_FAR DEPTH")->expected(3);
-    slice_cmd->add_flag("--elasticity", elasticity, "field values are E/Es (PROVISIONAL mapping, see --help)");
+    slice_cmd->add_flag("--elasticity", elasticity, "field values are E/Es, mapped by the fitted E = P(rho, tau) at tau = --radius");
     slice_cmd->add_option("--stl-box", stl_box, "X0 Y0 Z0 X1 Y1 Z1: export this sub-box as foam.stl")->expected(6);
     slice_cmd->add_option("--stl-voxel", stl_voxel, "marching-cubes sample spacing for --stl-box, mm");
     slice_cmd->add_option("--beams-box", beams_box, "X0 Y0 Z0 X1 Y1 Z1: export the beam network as beams.vtk")
@@ -254,16 +256,20 @@ int main(int argc, char** argv) {
         }
         if (elasticity) {
             field.elasticity = true;
-            const provisional_elasticity_model model;
+            const elasticity_polynomial model = fitted_elasticity();
             field.e_lo = std::min(field.v0, field.v1), field.e_hi = std::max(field.v0, field.v1);
             if (field.e_hi == field.e_lo) field.e_hi = field.e_lo + 1e-12;
+            const auto [rho_lo, rho_hi] = fitted_density_range(fa.radius);
+            const double reach_lo = model(rho_lo, fa.radius), reach_hi = model(rho_hi, fa.radius);
             auto t = std::make_shared<std::vector<double>>(257);
             for (std::size_t i = 0; i < t->size(); ++i) {
                 const double e = field.e_lo + (field.e_hi - field.e_lo) * static_cast<double>(i) / 256.0;
-                (*t)[i] = inverse_elasticity(model, e, fa.radius).density;
+                (*t)[i] = inverse_fitted_elasticity(e, fa.radius).density;  // throws if --radius was not sampled
             }
             field.e_table = t;
-            std::cerr << "note: --elasticity uses the PROVISIONAL Gibson-Ashby model, not a homogenization fit\n";
+            if (field.e_lo < reach_lo || field.e_hi > reach_hi)
+                std::cerr << "note: --elasticity targets outside [" << reach_lo << ", " << reach_hi
+                          << "] (reachable with the fitted model at tau = " << fa.radius << " mm) are clamped\n";
         }
         const voronoi_foam foam(field, constant_field{fa.radius}, {.cell = fa.cell, .seed = fa.seed});
         frame_options fo{.thickness = frame, .cuts = {}};
@@ -283,7 +289,7 @@ int main(int argc, char** argv) {
         } else {
             for (int s = 0; s < layers; ++s) which.push_back(s);
         }
-        const slice_options so{.supersample = supersample, .tile = 64};
+        const slice_options so{.supersample = supersample};
         std::uint64_t pixels = 0, solid = 0;
         double total_ms = 0;
         std::vector<image8> preview;

@@ -31,10 +31,11 @@ TEST_CASE("inverse elasticity solves P(rho, tau_min) = E", "[foam][elasticity]")
     CHECK_THROWS_AS(inverse_elasticity(P, 0.01, 0.0), invalid_input);
     elasticity_polynomial bad{4, {1, 2, 3}};
     CHECK_THROWS_AS(bad.validate(), invalid_input);
-    // the provisional model is increasing in rho and invertible
-    provisional_elasticity_model pm;
-    const foam_parameters fp = inverse_elasticity(pm, pm(0.3, 0.25), 0.25);
-    CHECK(fp.density == Approx(0.3).epsilon(1e-8));
+    // the shipped fit (elasticity_fit.hpp; more in elasticity_fit.cpp) is invertible at tau_min
+    const auto [lo, hi] = fitted_density_range(fitted::tau_min);
+    const double rho = 0.5 * (lo + hi);
+    const foam_parameters fp = inverse_fitted_elasticity(fitted_elasticity()(rho, fitted::tau_min), fitted::tau_min);
+    CHECK(fp.density == Approx(rho).epsilon(1e-8));
 }
 
 TEST_CASE("beam network: nodes of degree <= 4 inside, edges on Voronoi edges", "[foam][beams]") {

@@ -1,25 +1,34 @@
 #pragma once
-/// @file elasticity.hpp  Elasticity control hook (paper §4.2): from a target Young's modulus to
-/// foam parameters (rho, tau), given a fitted model E = P(rho, tau).
+/// @file elasticity.hpp  Elasticity control (paper §4.2): from a target Young's modulus to foam
+/// parameters (rho, tau), given a fitted model E = P(rho, tau).
 ///
-/// The fitted degree-4 polynomial of the paper (§4.1) comes from homogenization, which is not
-/// part of this header: the coefficients are data (`elasticity_polynomial`), to be filled from a
-/// fit. Strategy of §4.2: tau = tau_min (thinnest printable beam), rho solves
-/// P(rho, tau_min) = E_target on [rho_min, rho_max] with rho_max = 1 / (2 tau_min)^3 (the block is
-/// full beyond it). The solve is bisection on a bracket, so it needs P(rho_min) <= E <= P(rho_max)
-/// (monotone models; the paper's fit is increasing in rho).
+/// The fitted degree-4 polynomial of the paper (§4.1) is data: elasticity_fit.hpp holds the
+/// coefficients that examples/foam_fit computed by homogenizing periodic foam samples (provenance
+/// in that header and in data/foam/README.md); fitted_elasticity() wraps them. Strategy of §4.2:
+/// tau = tau_min (thinnest printable beam), rho solves P(rho, tau_min) = E_target. The generic
+/// inverse_elasticity bisects on [rho_min, rho_max] with rho_max = 1 / (2 tau_min)^3 (the block
+/// is full beyond it), so it needs a model that is monotone there. The shipped polynomial is only
+/// valid where it was sampled, the band f_min <= rho (2 tau)^3 <= f_max, tau_min <= tau <= tau_max
+/// of elasticity_fit.hpp (E depends on rho and tau through f = rho (2 tau)^3 only: a foam scaled
+/// by s has density rho / s^3 and radius s tau and the same relative stiffness); so
+/// inverse_fitted_elasticity bisects on that band and refuses radii outside the sampled range.
 ///
 /// Usage:
-///   elasticity_polynomial P{4, coeffs};          // coeffs ordered as in elasticity_polynomial
-///   foam_parameters p = inverse_elasticity(P, 0.01, 0.25);   // E relative to the base material
+///   foam_parameters p = inverse_fitted_elasticity(0.05, 0.25);       // E/Es = 0.05, tau_min = 0.25 mm
+///   double e = fitted_elasticity()(p.density, p.radius);              // ~ 0.05
+///   foam_parameters q = inverse_elasticity(my_model, 0.01, 0.25);    // any monotone model
+#include <algorithm>
 #include <cmath>
 #include <concepts>
+#include <iterator>
+#include <utility>
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
+#include "fabsynth/foam/elasticity_fit.hpp"
 
 namespace fabsynth::foam {
 
@@ -95,15 +104,44 @@ template <elasticity_model Model>
     return {0.5 * (lo + hi), tau_min};
 }
 
-/// PROVISIONAL model until the homogenization fit exists (issue 4, item 4): Gibson-Ashby
-/// E/Es = 0.85 w^1.95 (paper §4.3.1 constants) with the relative volume estimated as
-/// w = pi tau^2 * 5.832 rho^(2/3), the edge length per volume of a Poisson-Voronoi tessellation
-/// (Meijering 1953) times the beam cross-section, capped at 1. Not the paper's fitted polynomial.
-struct provisional_elasticity_model {
-    [[nodiscard]] double operator()(double rho, double tau) const {
-        const double w = std::min(1.0, 3.14159265358979323846 * tau * tau * 5.832 * std::cbrt(rho * rho));
-        return 0.85 * std::pow(w, 1.95);
+/// The shipped fit of elasticity_fit.hpp as a polynomial: E/Es = P(rho [seeds/mm^3], tau [mm]).
+[[nodiscard]] inline elasticity_polynomial fitted_elasticity() {
+    return {fitted::degree, std::vector<double>(std::begin(fitted::coefficients), std::end(fitted::coefficients))};
+}
+
+/// Densities of the sampled band at radius tau: [f_min, f_max] / (2 tau)^3 (see the file comment).
+[[nodiscard]] inline std::pair<double, double> fitted_density_range(double tau) {
+    const double b = 1.0 / (8.0 * tau * tau * tau);
+    return {fitted::fraction_min * b, fitted::fraction_max * b};
+}
+
+/// Inverse of the shipped fit at tau = tau_min (§4.2): rho in the sampled band with
+/// P(rho, tau_min) = e_target. Throws invalid_input for non-finite input or tau_min outside
+/// [fitted::tau_min, fitted::tau_max]; outside [P(rho_lo), P(rho_hi)] clamps or throws
+/// no_solution by `policy`.
+[[nodiscard]] inline foam_parameters inverse_fitted_elasticity(double e_target, double tau_min,
+                                                               out_of_range policy = out_of_range::clamp) {
+    require_finite(e_target, "target Young's modulus");
+    require_positive(tau_min, "minimum beam radius tau_min");
+    if (tau_min < fitted::tau_min * (1 - 1e-12) || tau_min > fitted::tau_max * (1 + 1e-12))
+        throw invalid_input("beam radius tau_min = " + std::to_string(tau_min) + " mm is outside the radii [" +
+                            std::to_string(fitted::tau_min) + ", " + std::to_string(fitted::tau_max) +
+                            "] mm the shipped elasticity fit was sampled on (re-run examples/foam_fit for other radii)");
+    const elasticity_polynomial P = fitted_elasticity();
+    const auto [lo, hi] = fitted_density_range(tau_min);
+    // inverse_elasticity bisects on [rho_min, full-block bound]; restrict the model to the band by
+    // holding it constant above hi, then pull the answer back into the band.
+    const auto banded = [&](double rho, double tau) { return P(std::min(rho, hi), tau); };
+    const double e_hi = P(hi, tau_min);
+    if (e_target > e_hi) {
+        if (policy == out_of_range::throw_no_solution)
+            throw no_solution("target Young's modulus " + std::to_string(e_target) + " is above " + std::to_string(e_hi) +
+                              ", the stiffest foam of the fitted range at tau = " + std::to_string(tau_min) + " mm");
+        return {hi, tau_min};
     }
-};
+    foam_parameters p = inverse_elasticity(banded, e_target, tau_min, lo, policy);
+    p.density = std::min(p.density, hi);
+    return p;
+}
 
 }  // namespace fabsynth::foam

@@ -19,6 +19,16 @@
 ///    drew no seed at all, one fallback seed is drawn uniformly in the coarse cell, keyed by level -1.
 ///    So EVERY coarse cell holds at least one seed; the evaluator relies on it only to bound its search.
 ///
+/// Periodic foams (for homogenization, paper §4.1 "a periodic version of the structure in a base
+/// volume"): with a period P = (Px, Py, Pz) coarse cells, the seeds of coarse cell c are those of the
+/// wrapped cell w = c mod P (hash keys AND density lookups use w and positions inside w's cell)
+/// shifted by (c - w) L. The seed set is then invariant under translations by Pa L along each axis
+/// a, so its Voronoi diagram, and the foam evaluated on it, tile space exactly with the box
+/// [0, P L) as one period; the evaluator needs no change because it only asks for cell_seeds(c).
+/// The period comes from seed_options::period or, when that is zero, from a density field that
+/// declares one (periodic_density below; voronoi_foam builds its seed_options itself and forwards
+/// the density, so wrapping the density is how a periodic voronoi_foam is made).
+///
 /// Usage:
 ///   fabsynth::foam::seed_generator gen(fabsynth::foam::constant_field{0.5}, {.cell = 2.0, .seed = 7});
 ///   std::vector<fabsynth::vec3> s = gen.seeds_in_box({{0,0,0},{10,10,10}});
@@ -47,7 +57,38 @@ struct seed_options {
     double cell = 2.0;               ///< coarse cell side L, mm (> 0)
     std::uint64_t seed = 0;          ///< global random seed
     double max_density = 1e300;      ///< seeds/mm^3; clamped to max_seeds_per_cell / L^3
+    i64vec3 period{0};               ///< coarse cells per period on each axis; (0,0,0) = aperiodic, else all >= 1
 };
+
+/// Largest period accepted (coarse cells per axis).
+inline constexpr std::int64_t max_period_cells = 1 << 20;
+
+/// A density field declaring that the foam built on it is periodic with `period` coarse cells per
+/// axis (see the file comment). Evaluates like the wrapped field; the generator does the wrapping.
+///   voronoi_foam f(periodic_density<constant_field>{{2.0}, {6, 6, 6}}, constant_field{0.25}, {.cell = 2.5});
+template <scalar_field F>
+struct periodic_density {
+    F field;
+    i64vec3 period{1};
+    [[nodiscard]] double operator()(const vec3& x) const { return static_cast<double>(field(x)); }
+    [[nodiscard]] i64vec3 period_cells() const noexcept { return period; }
+};
+
+namespace detail {
+/// The period a density declares: its period_cells(), or that of a field it wraps in a public
+/// member named `rho` (as voronoi_foam's density cap does), else (0,0,0).
+template <class D>
+[[nodiscard]] i64vec3 declared_period(const D& d) {
+    if constexpr (requires { { d.period_cells() } -> std::convertible_to<i64vec3>; }) return d.period_cells();
+    else if constexpr (requires { d.rho; }) return declared_period(d.rho);
+    else return i64vec3(0);
+}
+/// Floor division of a by b > 0.
+[[nodiscard]] constexpr std::int64_t floor_div(std::int64_t a, std::int64_t b) noexcept {
+    const std::int64_t q = a / b;
+    return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+}  // namespace detail
 
 /// Coarse cell index holding point p (floor(p / L)); throws invalid_input for non-finite or huge p.
 [[nodiscard]] inline i64vec3 coarse_cell_of(const vec3& p, double cell) {
@@ -73,7 +114,19 @@ public:
         const double l3 = opt_.cell * opt_.cell * opt_.cell;
         min_density_ = 1.0 / l3;
         max_density_ = std::max(min_density_, std::min(opt_.max_density, max_seeds_per_cell / l3));
+        if (opt_.period == i64vec3(0)) opt_.period = detail::declared_period(rho_);
+        if (opt_.period != i64vec3(0))
+            for (int a = 0; a < 3; ++a)
+                if (opt_.period[a] < 1 || opt_.period[a] > max_period_cells)
+                    throw invalid_input("foam seed period must be (0,0,0) (aperiodic) or >= 1 and <= " +
+                                        std::to_string(max_period_cells) + " coarse cells on every axis, got " +
+                                        std::to_string(opt_.period[a]) + " on axis " + std::to_string(a));
     }
+
+    /// True when the seeds repeat with period options().period coarse cells.
+    [[nodiscard]] bool periodic() const noexcept { return opt_.period != i64vec3(0); }
+    /// Side of one period in mm per axis (period * cell); zero when aperiodic.
+    [[nodiscard]] vec3 period_length() const noexcept { return vec3(opt_.period) * opt_.cell; }
 
     [[nodiscard]] const seed_options& options() const noexcept { return opt_; }
     [[nodiscard]] const Density& density() const noexcept { return rho_; }
@@ -91,14 +144,25 @@ public:
     }
 
     /// Appends the seeds of coarse cell `c` (cell [c L, (c+1) L]^3) to `out`.
+    /// Periodic: the seeds of the wrapped cell c mod period, shifted by whole periods.
     void cell_seeds(const i64vec3& c, std::vector<vec3>& out) const {
         const std::size_t before = out.size();
-        subdivide(c, 0, opt_.cell, out);
+        i64vec3 w = c;
+        vec3 shift(0.0);
+        if (periodic())
+            for (int a = 0; a < 3; ++a) {
+                const std::int64_t k = detail::floor_div(c[a], opt_.period[a]);
+                w[a] = c[a] - k * opt_.period[a];
+                shift[a] = static_cast<double>(k * opt_.period[a]) * opt_.cell;
+            }
+        subdivide(w, 0, opt_.cell, out);
         if (out.size() == before) {  // see file comment: guarantee >= 1 seed per coarse cell
-            counter_rng r(opt_.seed, c.x, c.y, c.z, std::int64_t{-1});
-            const vec3 lo = vec3(c) * opt_.cell;
+            counter_rng r(opt_.seed, w.x, w.y, w.z, std::int64_t{-1});
+            const vec3 lo = vec3(w) * opt_.cell;
             out.push_back(lo + opt_.cell * vec3(r.uniform(), r.uniform(), r.uniform()));
         }
+        if (periodic())
+            for (std::size_t i = before; i < out.size(); ++i) out[i] += shift;
     }
 
     /// Every seed inside the closed box b. Throws invalid_input when b spans more than 1e7 coarse

@@ -1,0 +1,115 @@
+// foam_fit: elasticity control of procedural Voronoi foams (procedural-voronoi-foams.md §4.1).
+//
+//   foam_fit [--tau T1,T2,...] [--fraction 0.002 0.2 --rho-count 4 | --pairs RHO:TAU,...]
+//            [--seeds 1] [--first-seed 1] [--elements 60] [--supersample 4] [--seeds-per-cell 4]
+//            [--tol 1e-6] [--threads 0] [--csv data/foam/elasticity_samples.csv]
+//            [--header include/fabsynth/foam/elasticity_fit.hpp] [--plot data/foam/elasticity_fit.png]
+//            [--cache FILE]
+//
+// Grid: M = (number of taus) x --rho-count fractions f_i uniformly spaced in [LO, HI]; fraction f_i
+// goes to tau number (i mod number of taus) as rho = f_i / (2 tau)^3 (f = 1 is the full-block bound
+// of paper §4.2). So each tau gets --rho-count uniformly spaced densities and the f values of the
+// different taus interleave. Why interleave: a sample (rho, tau) is an exact scaled copy of the
+// sample (rho s^3, tau / s) (the sample side, element size, coarse cell and seeds all scale with
+// tau), so E depends on f = rho (2 tau)^3 only; equal f at two taus would repeat a computation.
+// Or an explicit --pairs list.
+// Each (rho, tau) is realised with --seeds global seeds as a periodic foam of --elements^3
+// hexahedral elements of side tau, homogenized (Es = 1, nu = 0.3) and fitted with an isotropic
+// tensor; then E = P(rho, tau) (degree 4) and E/Es = C w^n on 0.04 < w < 0.5 are fitted.
+// Writes the CSV of data points, the coefficients header and the PNG plot (only those asked for);
+// prints one line per sample (stderr) and a summary (stdout). Exit code 1 on error.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <sstream>
+
+#include "foam_fit.hpp"
+#include "plot.hpp"
+
+namespace {
+std::vector<double> parse_list(const std::string& s, const char* what) {
+    std::vector<double> v;
+    std::stringstream ss(s);
+    for (std::string t; std::getline(ss, t, ',');) {
+        try {
+            std::size_t used = 0;
+            v.push_back(std::stod(t, &used));
+            if (used != t.size()) throw std::invalid_argument(t);
+        } catch (const std::exception&) {
+            throw fabsynth::invalid_input(std::string("foam_fit: ") + what + ": '" + t + "' is not a number");
+        }
+    }
+    return v;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace fabsynth;
+    CLI::App app{"Homogenize periodic procedural Voronoi foams over a (rho, tau) grid and fit E = P(rho, tau)"};
+    foam_fit::config c;
+    std::string taus = "0.2,0.225,0.25,0.275,0.3", pairs;
+    std::vector<double> fraction{0.002, 0.2};
+    int rho_count = 4;
+    unsigned threads = 0;
+    app.add_option("--tau", taus, "beam radii tau (mm), comma separated")->capture_default_str();
+    app.add_option("--fraction", fraction, "density range as fractions LO HI of the full-block bound 1/(2 tau)^3")
+        ->expected(2)->capture_default_str();
+    app.add_option("--rho-count", rho_count, "densities per tau, uniformly spaced")->capture_default_str();
+    app.add_option("--pairs", pairs, "explicit grid RHO:TAU,RHO:TAU,... (replaces --tau/--fraction)");
+    app.add_option("--seeds", c.seeds_per_pair, "global random seeds per (rho, tau)")->capture_default_str();
+    app.add_option("--first-seed", c.first_seed, "first global seed")->capture_default_str();
+    app.add_option("--elements", c.elements, "hexahedral elements per side of the periodic sample")->capture_default_str();
+    app.add_option("--supersample", c.supersample, "s: s^3 coverage samples per element")->capture_default_str();
+    app.add_option("--seeds-per-cell", c.seeds_per_cell, "target seeds per coarse cell (sets the seed period)")->capture_default_str();
+    app.add_option("--tol", c.tolerance, "relative residual of each FEM solve")->capture_default_str();
+    app.add_option("--threads", threads, "worker threads (0 = all cores); results do not depend on it")->capture_default_str();
+    app.add_option("--csv", c.csv, "data points CSV to write");
+    app.add_option("--header", c.header, "generated coefficients header to write");
+    app.add_option("--plot", c.plot, "PNG plot to write");
+    app.add_option("--cache", c.cache, "sample cache (reused and extended; lets a run resume)");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        set_num_threads(threads);
+        if (!pairs.empty()) {
+            std::stringstream ss(pairs);
+            for (std::string t; std::getline(ss, t, ',');) {
+                const auto colon = t.find(':');
+                if (colon == std::string::npos) throw invalid_input("foam_fit: --pairs entry '" + t + "' is not RHO:TAU");
+                const auto r = parse_list(t.substr(0, colon), "--pairs"), u = parse_list(t.substr(colon + 1), "--pairs");
+                if (r.size() != 1 || u.size() != 1) throw invalid_input("foam_fit: --pairs entry '" + t + "' is not RHO:TAU");
+                c.pairs.push_back({r[0], u[0]});
+            }
+        } else {
+            if (rho_count < 1) throw invalid_input("foam_fit: --rho-count must be >= 1");
+            if (!(fraction[0] > 0 && fraction[0] <= fraction[1] && fraction[1] <= 1))
+                throw invalid_input("foam_fit: --fraction needs 0 < LO <= HI <= 1");
+            const std::vector<double> tau = parse_list(taus, "--tau");
+            if (tau.empty()) throw invalid_input("foam_fit: --tau is empty");
+            const std::size_t m = tau.size(), total = m * static_cast<std::size_t>(rho_count);
+            for (std::size_t i = 0; i < total; ++i) {  // in increasing f, so a cut-short run still spans every tau
+                const double f = total == 1 ? fraction[0] : fraction[0] + (fraction[1] - fraction[0]) * double(i) / double(total - 1);
+                c.pairs.push_back({f * foam_fit::full_block_density(tau[i % m]), tau[i % m]});
+            }
+        }
+        const foam_fit::report r = foam_fit::run(c, [](const std::string& s) { std::cerr << s << std::endl; }, foam_fit::write_plot);
+        std::printf("samples %zu (%zu pairs x %d seeds), %d^3 elements, supersample %d\n", r.samples.size(), c.pairs.size(),
+                    c.seeds_per_pair, c.elements, c.supersample);
+        if (!r.P.coeffs.empty()) {
+            std::printf("degree-4 polynomial E = P(rho, tau): max deviation %.3f%% of E (paper: 3.3%%)\ncoefficients:", 100 * r.max_deviation);
+            for (double x : r.P.coeffs) std::printf(" %.9g", x);
+            std::printf("\n");
+        } else {
+            std::printf("too few samples for the degree-4 polynomial (need 15)\n");
+        }
+        if (r.gibson_ashby_ok)
+            std::printf("Gibson-Ashby E/Es = C w^n on %.3g < w < %.3g (%zu samples): C = %.4f, n = %.4f (paper: 0.85, 1.95)\n", c.omega_lo,
+                        c.omega_hi, r.gibson_ashby.samples_used, r.gibson_ashby.C, r.gibson_ashby.n);
+        else
+            std::printf("Gibson-Ashby: fewer than two samples with %.3g < w < %.3g\n", c.omega_lo, c.omega_hi);
+        std::printf("time %.1f s\n", r.seconds);
+    } catch (const std::exception& e) {
+        std::cerr << "foam_fit: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
