@@ -1,9 +1,12 @@
 #pragma once
 /// @file geometry.hpp  Geometry building blocks: meshes, polygons, Clipper booleans, distances,
-/// marching cubes and mesh topology.
+/// marching cubes, mesh topology, planar curves with a band map, triangulation and extrusion.
 #include "fabsynth/geometry/clip.hpp"
+#include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/geometry/distance.hpp"
+#include "fabsynth/geometry/extrude.hpp"
 #include "fabsynth/geometry/marching_cubes.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/triangulate.hpp"

@@ -1,0 +1,305 @@
+#pragma once
+/// @file extrude.hpp  Closed, outward-oriented triangle meshes from planar triangulations: straight
+/// extrusion, and the extrusion of a band pattern along a curve computed in the curve's parameter
+/// domain (Zhou et al. 2014, §6.3 "Generating the final mesh").
+///
+/// extrude(t, thickness): the triangles become the top (z = thickness) and, reversed, the bottom
+/// (z = 0); every boundary edge of the triangulation (a directed edge whose reverse is not used)
+/// gets a wall of two triangles. The result is watertight (every edge in exactly two faces,
+/// traversed in opposite directions) when the triangulation is edge-conforming, and its normals
+/// point outwards when the triangles are counter-clockwise; volume = area * thickness.
+///
+/// extrude_along_curve(polys, curve, opt), the paper's §6.3: the pattern's polygons are
+/// triangulated in (u, v) (geometry/triangulate.hpp), the triangles cut by the lines u = k max_du
+/// (conforming), and only then are the vertices mapped by
+/// the band map (u, v) -> C(u) + v n(u) (geometry/curve.hpp). Tessellating in the parameter domain
+/// keeps the triangulation valid where the mapped outline is tightly curved. For closed curves the
+/// seam is welded: the vertices of the cut at u = L are identified with those of the cut at u = 0
+/// (the cuts are first made conforming by inserting each side's seam vertices into the other
+/// side's seam edges), so the seam edges become interior edges and the mesh stays watertight
+/// (the paper's "circular band" for closed curves).
+///
+/// weld_to_float(mesh) merges vertices that coincide in single precision (what binary STL keeps).
+///
+/// Usage:
+///   auto t = fabsynth::triangulate(polys);
+///   fabsynth::triangle_mesh slab = fabsynth::extrude(t, 2.0);
+///   fabsynth::triangle_mesh band = fabsynth::extrude_along_curve(band_polys, curve, {.thickness = 2.0});
+///
+/// Errors: invalid_input for a thickness that is not finite and > 0, a triangulation that uses a
+/// directed edge twice (overlapping or badly oriented triangles), pattern vertices outside
+/// u in [0, L], a band that folds (planar_curve::check_band), a closed pattern whose two cuts do
+/// not match, and non-finite coordinates.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/types.hpp"
+#include "fabsynth/geometry/curve.hpp"
+#include "fabsynth/geometry/mesh.hpp"
+#include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/triangulate.hpp"
+
+namespace fabsynth {
+
+/// Extrudes triangles (indices into t.vertices, counter-clockwise) to a closed slab between
+/// z = 0 and z = thickness. Unreferenced vertices are dropped. O(F log F).
+[[nodiscard]] inline triangle_mesh extrude(const planar_triangulation& t, double thickness) {
+    require_positive(thickness, "extrude: thickness");
+    std::vector<std::uint32_t> remap(t.vertices.size(), std::numeric_limits<std::uint32_t>::max());
+    std::vector<vec2> used;
+    for (const auto& tri : t.triangles)
+        for (std::uint32_t v : tri) {
+            if (v >= t.vertices.size()) throw invalid_input("extrude: triangle uses missing vertex " + std::to_string(v));
+            if (remap[v] == std::numeric_limits<std::uint32_t>::max()) {
+                if (!all_finite(t.vertices[v])) throw invalid_input("extrude: vertex " + std::to_string(v) + " is not finite");
+                remap[v] = static_cast<std::uint32_t>(used.size());
+                used.push_back(t.vertices[v]);
+            }
+        }
+    const std::uint32_t n = static_cast<std::uint32_t>(used.size());
+    triangle_mesh m;
+    m.vertices.reserve(2 * used.size());
+    for (const vec2& p : used) m.vertices.push_back({p.x, p.y, 0.0});
+    for (const vec2& p : used) m.vertices.push_back({p.x, p.y, thickness});
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (const auto& tri : t.triangles) {
+        const std::uint32_t a = remap[tri[0]], b = remap[tri[1]], c = remap[tri[2]];
+        if (a == b || b == c || a == c) throw invalid_input("extrude: a triangle repeats a vertex");
+        for (auto e : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+            if (++directed[e] > 1)
+                throw invalid_input("extrude: the directed edge " + std::to_string(e.first) + "-" + std::to_string(e.second) +
+                                    " is used twice (overlapping or inconsistently oriented triangles)");
+        m.faces.push_back({a + n, b + n, c + n});  // top, normal +z
+        m.faces.push_back({a, c, b});              // bottom, normal -z
+    }
+    // Walls on boundary edges a->b (interior on the left): outward = right of a->b.
+    for (const auto& [e, k] : directed) {
+        if (directed.count({e.second, e.first})) continue;
+        const std::uint32_t a = e.first, b = e.second;
+        m.faces.push_back({a, b, b + n});
+        m.faces.push_back({a, b + n, a + n});
+    }
+    return m;
+}
+
+/// Cuts every triangle by the vertical lines x = k * max_dx (k integer) so that no triangle spans
+/// more than max_dx along x. Conforming: the crossing of an edge with a line is computed once per
+/// edge and shared by both triangles using it, so an edge-conforming triangulation stays
+/// edge-conforming. Each triangle's part between two consecutive lines is a convex polygon (at most
+/// 5 vertices) split by a fan. Costs O(triangles + crossings): unlike midpoint subdivision, only u
+/// is refined (v needs nothing: the band map is affine along v).
+inline void refine_x_extent(planar_triangulation& t, double max_dx) {
+    require_positive(max_dx, "refine: max_dx");
+    using edge = std::pair<std::uint32_t, std::uint32_t>;
+    std::map<edge, std::vector<std::uint32_t>> crossings;  // canonical edge (lo id, hi id) -> vertices, in id order
+    // Lines X_k = k * max_dx; k is found by comparing with X_k itself (not floor(x / max_dx), whose
+    // rounding can disagree with k * max_dx for x on a line).
+    auto first_line_above = [max_dx](double x) {
+        double k = std::floor(x / max_dx) - 1.0;
+        while (k * max_dx <= x) k += 1.0;
+        return k;
+    };
+    auto slab_of = [&](double x) { return first_line_above(x) - 1.0; };  // X_k <= x < X_k+1
+    auto crossings_of = [&](std::uint32_t a, std::uint32_t b) -> const std::vector<std::uint32_t>& {
+        const edge key = a < b ? edge{a, b} : edge{b, a};
+        auto it = crossings.find(key);
+        if (it != crossings.end()) return it->second;
+        std::vector<std::uint32_t> ids;
+        const vec2 p = t.vertices[key.first], q = t.vertices[key.second];
+        const double lo = std::min(p.x, q.x), hi = std::max(p.x, q.x);
+        // lines strictly between the endpoints, ordered from p to q
+        std::vector<double> xs;
+        for (double k = first_line_above(lo); k * max_dx < hi; k += 1.0) xs.push_back(k * max_dx);
+        if (p.x > q.x) std::reverse(xs.begin(), xs.end());
+        for (double x : xs) {
+            const double s = (x - p.x) / (q.x - p.x);
+            ids.push_back(static_cast<std::uint32_t>(t.vertices.size()));
+            t.vertices.push_back({x, p.y + s * (q.y - p.y)});
+        }
+        return crossings.emplace(key, std::move(ids)).first->second;
+    };
+    std::vector<std::array<std::uint32_t, 3>> out;
+    out.reserve(t.triangles.size());
+    std::vector<std::uint32_t> ring, piece;
+    for (const auto& tri : t.triangles) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (std::uint32_t v : tri) lo = std::min(lo, t.vertices[v].x), hi = std::max(hi, t.vertices[v].x);
+        if (hi <= (slab_of(lo) + 1.0) * max_dx) {
+            out.push_back(tri);
+            continue;
+        }
+        // boundary of the triangle with every crossing, counter-clockwise
+        ring.clear();
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+            ring.push_back(a);
+            const auto& c = crossings_of(a, b);
+            if (a < b) ring.insert(ring.end(), c.begin(), c.end());
+            else ring.insert(ring.end(), c.rbegin(), c.rend());
+        }
+        // the part in each slab [X_k, X_k+1]: the boundary points inside it, in boundary order
+        for (double k = slab_of(lo); k * max_dx < hi; k += 1.0) {
+            const double x0 = k * max_dx, x1 = (k + 1.0) * max_dx;
+            piece.clear();
+            for (std::uint32_t v : ring)
+                if (t.vertices[v].x >= x0 && t.vertices[v].x <= x1) piece.push_back(v);
+            // Every fan triangle is kept, even a flat one (a sliver whose rounded crossings are
+            // collinear): dropping it would open the mesh; the fan uses each piece edge once.
+            for (std::size_t i = 1; i + 1 < piece.size(); ++i) out.push_back({piece[0], piece[i], piece[i + 1]});
+        }
+    }
+    t.triangles = std::move(out);
+}
+
+/// Rounds every vertex to single precision (what binary STL stores), merges vertices that become
+/// equal and drops faces that become degenerate (repeated vertex). Sliver triangles next to a cut
+/// line can have vertices a few 1e-7 mm apart; without this the written STL would have collapsed
+/// faces. Collapsing a zero-length edge removes its two faces and keeps the mesh closed.
+inline void weld_to_float(triangle_mesh& m) {
+    std::map<std::array<float, 3>, std::uint32_t> index;
+    std::vector<std::uint32_t> remap(m.vertices.size());
+    std::vector<vec3> verts;
+    for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+        const std::array<float, 3> k{static_cast<float>(m.vertices[i].x), static_cast<float>(m.vertices[i].y),
+                                     static_cast<float>(m.vertices[i].z)};
+        const auto [it, fresh] = index.emplace(k, static_cast<std::uint32_t>(verts.size()));
+        if (fresh) verts.push_back({k[0], k[1], k[2]});
+        remap[i] = it->second;
+    }
+    std::vector<std::array<std::uint32_t, 3>> faces;
+    faces.reserve(m.faces.size());
+    for (auto f : m.faces) {
+        for (std::uint32_t& v : f) v = remap[v];
+        if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) faces.push_back(f);
+    }
+    m.vertices = std::move(verts);
+    m.faces = std::move(faces);
+}
+
+/// Options of extrude_along_curve.
+struct curve_extrude_options {
+    double thickness = 1.0;        ///< slab thickness, mm (> 0)
+    double chord_tolerance = 0.01; ///< max distance of a mapped triangle edge from the true mapped curve, mm (> 0)
+    double max_du = 0.0;           ///< max u-extent of a triangle edge before mapping; 0 = from chord_tolerance
+};
+
+namespace detail::band {
+/// Validates band-coordinate polygons for a curve of length L; returns max |v|.
+inline double check_band_polygons(const std::vector<polygon_with_holes>& polys, double length, const char* what) {
+    const double tol = 1e-9 * length;
+    double vmax = 0.0;
+    for (std::size_t i = 0; i < polys.size(); ++i) {
+        auto check = [&](const ring2& r) {
+            for (const vec2& p : r) {
+                if (!all_finite(p)) throw invalid_input(std::string(what) + ": polygon " + std::to_string(i) + " has a non-finite point");
+                if (p.x < -tol || p.x > length + tol)
+                    throw invalid_input(std::string(what) + ": polygon " + std::to_string(i) + " has u = " + std::to_string(p.x) +
+                                        " outside the curve's [0, " + std::to_string(length) + "]");
+                vmax = std::max(vmax, std::abs(p.y));
+            }
+        };
+        check(polys[i].outer);
+        for (const ring2& h : polys[i].holes) check(h);
+    }
+    return vmax;
+}
+
+/// Seam conformity for closed curves: snaps u within tol of 0 or L onto 0 or L and inserts into
+/// every edge lying on a seam side the v values of the other side's seam vertices.
+inline std::vector<polygon_with_holes> conform_seam(std::vector<polygon_with_holes> polys, double length) {
+    const double tol = 1e-9 * length;
+    std::vector<double> at0, atL;
+    auto snap = [&](ring2& r) {
+        for (vec2& p : r) {
+            if (std::abs(p.x) <= tol) p.x = 0.0, at0.push_back(p.y);
+            else if (std::abs(p.x - length) <= tol) p.x = length, atL.push_back(p.y);
+        }
+    };
+    for (auto& p : polys) {
+        snap(p.outer);
+        for (ring2& h : p.holes) snap(h);
+    }
+    std::sort(at0.begin(), at0.end());
+    std::sort(atL.begin(), atL.end());
+    auto insert = [&](ring2& r) {
+        ring2 out;
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            const vec2 a = r[i], b = r[(i + 1) % r.size()];
+            out.push_back(a);
+            if (a.x != b.x || (a.x != 0.0 && a.x != length)) continue;
+            const auto& other = a.x == 0.0 ? atL : at0;
+            const double lo = std::min(a.y, b.y), hi = std::max(a.y, b.y);
+            std::vector<double> vs;
+            for (auto it = std::upper_bound(other.begin(), other.end(), lo); it != other.end() && *it < hi; ++it)
+                if (vs.empty() || *it != vs.back()) vs.push_back(*it);
+            if (a.y > b.y) std::reverse(vs.begin(), vs.end());
+            for (double v : vs) out.push_back({a.x, v});
+        }
+        r = std::move(out);
+    };
+    for (auto& p : polys) {
+        insert(p.outer);
+        for (ring2& h : p.holes) insert(h);
+    }
+    return polys;
+}
+}  // namespace detail::band
+
+/// The u-extent below which mapped triangle edges stay within chord_tolerance of the mapped curve
+/// (sagitta r (1 - cos(du / 2r)) ~ du^2 / 8r at radius of curvature r, scaled by r / (r + vmax) for
+/// the outer side of the band); +inf for a straight curve.
+[[nodiscard]] inline double max_du_for_tolerance(const planar_curve& c, double chord_tolerance, double vmax) {
+    require_positive(chord_tolerance, "curve band: chord_tolerance");
+    const double r = c.min_radius_of_curvature();
+    if (!std::isfinite(r)) return std::numeric_limits<double>::infinity();
+    return std::sqrt(8.0 * chord_tolerance * r) * r / (r + vmax);
+}
+
+/// Triangulates band-coordinate polygons (u along the curve in [0, L], v across) in the parameter
+/// domain, refines, welds the seam of closed curves, maps by the band map and extrudes (§6.3).
+[[nodiscard]] inline triangle_mesh extrude_along_curve(const std::vector<polygon_with_holes>& band_polys,
+                                                       const planar_curve& curve, const curve_extrude_options& opt = {}) {
+    require_positive(opt.thickness, "extrude_along_curve: thickness");
+    require_positive(opt.chord_tolerance, "extrude_along_curve: chord_tolerance");
+    if (!(opt.max_du >= 0.0) || !std::isfinite(opt.max_du)) throw invalid_input("extrude_along_curve: max_du must be finite and >= 0");
+    const double L = curve.length();
+    const double vmax = detail::band::check_band_polygons(band_polys, L, "extrude_along_curve");
+    curve.check_band(vmax);
+    const std::vector<polygon_with_holes> polys = curve.closed() ? detail::band::conform_seam(band_polys, L) : band_polys;
+    planar_triangulation t = triangulate(polys);
+    const double du = opt.max_du > 0.0 ? opt.max_du : max_du_for_tolerance(curve, opt.chord_tolerance, vmax);
+    if (std::isfinite(du)) refine_x_extent(t, du);
+    if (curve.closed()) {
+        // weld u = L onto u = 0 (refinement never splits seam edges: their u-extent is 0)
+        std::vector<std::pair<double, std::uint32_t>> at0;
+        for (std::uint32_t i = 0; i < t.vertices.size(); ++i)
+            if (t.vertices[i].x == 0.0) at0.push_back({t.vertices[i].y, i});
+        std::sort(at0.begin(), at0.end());
+        std::vector<std::uint32_t> target(t.vertices.size());
+        for (std::uint32_t i = 0; i < t.vertices.size(); ++i) target[i] = i;
+        const double vtol = 1e-9 * std::max(L, vmax);
+        for (std::uint32_t i = 0; i < t.vertices.size(); ++i) {
+            if (t.vertices[i].x != L) continue;
+            const double v = t.vertices[i].y;
+            auto it = std::lower_bound(at0.begin(), at0.end(), std::pair{v - vtol, std::uint32_t{0}});
+            if (it == at0.end() || it->first > v + vtol)
+                throw invalid_input("extrude_along_curve: closed pattern: the cut at u = L has a vertex at v = " + std::to_string(v) +
+                                    " with no partner in the cut at u = 0 (the two cuts must match)");
+            target[i] = it->second;
+        }
+        for (auto& tri : t.triangles)
+            for (std::uint32_t& v : tri) v = target[v];
+    }
+    for (vec2& p : t.vertices) p = curve.band_point(p.x, p.y);
+    return extrude(t, opt.thickness);
+}
+
+}  // namespace fabsynth

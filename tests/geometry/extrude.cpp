@@ -1,0 +1,185 @@
+// Tests for geometry/extrude.hpp: watertight, outward, volume = area x thickness; conforming
+// refinement; the curve extrusion of §6.3 with seam welding on closed curves.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "fabsynth/geometry/extrude.hpp"
+#include "fabsynth/geometry/mesh_topology.hpp"
+#include "fabsynth/geometry/triangulate.hpp"
+#include "fabsynth/io/svg.hpp"
+#include "fabsynth/pattern/exemplar.hpp"
+
+using namespace fabsynth;
+using Catch::Matchers::Contains;
+
+namespace {
+ring2 rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+
+// Independent watertightness check: every undirected edge in exactly two faces, traversed once in
+// each direction.
+bool closed_and_oriented(const triangle_mesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (const auto& f : m.faces)
+        for (int k = 0; k < 3; ++k) ++directed[{f[k], f[(k + 1) % 3]}];
+    for (const auto& [e, n] : directed)
+        if (n != 1 || !directed.count({e.second, e.first}) || directed.at({e.second, e.first}) != 1) return false;
+    return !m.faces.empty();
+}
+}  // namespace
+
+TEST_CASE("extrude: slabs are watertight, outward, with volume = area x thickness", "[geometry][extrude]") {
+    const polygon_with_holes p{rect(0, 0, 10, 6), {rect(2, 2, 4, 4), rect(6, 1, 8, 5)}};
+    const triangle_mesh m = extrude(triangulate(p), 1.5);
+    const auto topo = analyze_topology(m);
+    CHECK(topo.is_watertight());
+    CHECK(closed_and_oriented(m));
+    CHECK(topo.components == 1);
+    CHECK(topo.genus == 2);  // two through-holes
+    CHECK(signed_volume(m) == Approx(area(p) * 1.5).epsilon(1e-12));
+    // surface = 2 area + perimeter x thickness
+    const double perim = perimeter(p.outer) + perimeter(p.holes[0]) + perimeter(p.holes[1]);
+    CHECK(surface_area(m) == Approx(2 * area(p) + 1.5 * perim).epsilon(1e-12));
+    CHECK_THROWS_AS(extrude(triangulate(p), 0.0), invalid_input);
+    CHECK_THROWS_AS(extrude(triangulate(p), std::nan("")), invalid_input);
+    // a doubled triangle is an overlap
+    planar_triangulation bad = triangulate(polygon_with_holes{rect(0, 0, 1, 1), {}});
+    bad.triangles.push_back(bad.triangles.front());
+    CHECK_THROWS_WITH(extrude(bad, 1.0), Contains("used twice"));
+}
+
+TEST_CASE("extrude: refinement bounds the x-extent of every edge and stays conforming", "[geometry][extrude]") {
+    const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/greek_key.svg"));
+    planar_triangulation t = triangulate(ex.polygons);
+    const double a0 = area(ex.polygons);
+    refine_x_extent(t, 0.7);
+    double a = 0;
+    for (const auto& tri : t.triangles) {
+        const vec2 p = t.vertices[tri[0]], q = t.vertices[tri[1]], r = t.vertices[tri[2]];
+        CHECK(orient2d(p, q, r) >= -1e-12);  // flat slivers allowed, no inverted triangle
+        a += 0.5 * orient2d(p, q, r);
+        for (auto [x, y] : {std::pair{p, q}, std::pair{q, r}, std::pair{r, p}}) CHECK(std::abs(x.x - y.x) <= 0.7 * (1 + 1e-12));
+    }
+    CHECK(a == Approx(a0).epsilon(1e-12));
+    const triangle_mesh m = extrude(t, 1.0);
+    CHECK(analyze_topology(m).is_watertight());
+    CHECK(analyze_topology(m).genus == static_cast<long long>(ex.holes()));
+    CHECK(signed_volume(m) == Approx(a0).epsilon(1e-12));
+}
+
+TEST_CASE("extrude_along_curve: straight line = plain extrusion", "[geometry][extrude]") {
+    const std::vector<polygon_with_holes> band{{rect(0, -2, 30, 2), {rect(5, -1, 25, 1)}}};
+    const triangle_mesh m = extrude_along_curve(band, planar_curve::line(30), {.thickness = 2.0});
+    CHECK(analyze_topology(m).is_watertight());
+    CHECK(signed_volume(m) == Approx(area(band) * 2.0).epsilon(1e-12));
+}
+
+TEST_CASE("extrude_along_curve: closed circle, the seam is welded", "[geometry][extrude]") {
+    const double R = 20.0, L = 2 * std::numbers::pi * R, t = 1.0;
+    const planar_curve c = planar_curve::circle(R);
+    SECTION("a full annulus is one closed torus-like solid") {
+        const std::vector<polygon_with_holes> band{{rect(0, -2, L, 2), {}}};
+        const triangle_mesh m = extrude_along_curve(band, c, {.thickness = t, .chord_tolerance = 1e-3});
+        const auto topo = analyze_topology(m);
+        CHECK(topo.is_watertight());
+        CHECK(closed_and_oriented(m));
+        CHECK(topo.components == 1);
+        CHECK(topo.genus == 1);
+        // exact annulus area pi ((R+2)^2 - (R-2)^2) = 8 pi R; the chords lose at most ~tol x perimeter
+        const double exact = 8 * std::numbers::pi * R * t;
+        CHECK(signed_volume(m) < exact);
+        CHECK(signed_volume(m) > exact - 2 * std::numbers::pi * (2 * R) * 1e-3 * t * 1.01);
+        // every vertex at radius R + v, v in [-2, 2]; the side walls exactly at R - 2 and R + 2
+        std::size_t inner = 0, outer = 0;
+        for (const vec3& p : m.vertices) {
+            const double r = std::hypot(p.x, p.y);
+            CHECK(r >= R - 2 - 1e-9);
+            CHECK(r <= R + 2 + 1e-9);
+            inner += std::abs(r - (R - 2)) < 1e-9;
+            outer += std::abs(r - (R + 2)) < 1e-9;
+        }
+        CHECK(inner >= 2 * 100);  // refined rim: many vertices on each circle, top and bottom
+        CHECK(outer >= 2 * 100);
+    }
+    SECTION("shapes cut at u = 0 and u = L become one component, with different vertices on each cut") {
+        // one bar crossing the seam, cut into [0, 3] and [L - 4, L]; the u = 0 side has an extra
+        // vertex on its cut (conform_seam inserts it on the other side), plus a hole in the bar
+        const std::vector<polygon_with_holes> band{
+            {{{0, -1}, {3, -1}, {3, 1}, {0, 1}, {0, 0.25}}, {}},
+            {rect(L - 4, -1, L, 1), {rect(L - 3, -0.5, L - 1, 0.5)}},
+            {rect(10, -1, 20, 1), {}}};
+        const triangle_mesh m = extrude_along_curve(band, c, {.thickness = t});
+        const auto topo = analyze_topology(m);
+        CHECK(topo.is_watertight());
+        CHECK(topo.components == 2);
+        CHECK(topo.genus == 1);
+    }
+    SECTION("cuts that do not match are rejected") {
+        const std::vector<polygon_with_holes> band{{rect(0, -1, 3, 1), {}}, {rect(L - 4, -1.5, L, 1.5), {}}};
+        CHECK_THROWS_WITH(extrude_along_curve(band, c, {.thickness = t}), Contains("no partner"));
+    }
+    SECTION("bad input") {
+        CHECK_THROWS_WITH(extrude_along_curve({{rect(0, -1, L + 1, 1), {}}}, c), Contains("outside"));
+        CHECK_THROWS_WITH(extrude_along_curve({{rect(0, -R, 5, 1), {}}}, c), Contains("radius of curvature"));
+        CHECK_THROWS_AS(extrude_along_curve({{rect(0, -1, 5, 1), {}}}, c, {.thickness = -1}), invalid_input);
+    }
+}
+
+TEST_CASE("extrude_along_curve: a bundled exemplar along an open arc", "[geometry][extrude]") {
+    const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/lace_scallop.svg"));
+    // band coordinates: u from 0, v centred
+    std::vector<polygon_with_holes> band = ex.polygons;
+    const vec2 shift{-ex.bounds.lo.x, -ex.bounds.center().y};
+    for (auto& p : band) {
+        for (vec2& q : p.outer) q += shift;
+        for (auto& h : p.holes)
+            for (vec2& q : h) q += shift;
+    }
+    const double W = ex.width(), R = 1.5 * W / std::numbers::pi;  // a third of a circle
+    std::vector<vec2> arc;
+    for (int i = 0; i <= 2000; ++i) {
+        const double a = (W / R) * i / 2000.0;
+        arc.push_back({R * std::sin(a), R - R * std::cos(a)});
+    }
+    const planar_curve c = planar_curve::polyline(arc, false);
+    const double L = c.length();
+    for (auto& p : band) {  // fit u into [0, L] (the polyline is a little shorter than the arc)
+        for (vec2& q : p.outer) q.x *= L / W;
+        for (auto& h : p.holes)
+            for (vec2& q : h) q.x *= L / W;
+    }
+    const triangle_mesh m = extrude_along_curve(band, c, {.thickness = 0.8, .chord_tolerance = 0.01});
+    const auto topo = analyze_topology(m);
+    CHECK(topo.is_watertight());
+    CHECK(topo.components == ex.components());
+    CHECK(topo.genus == static_cast<long long>(ex.holes()));
+    // area element of the band map (1 - v / R) integrates to the band polygons' area when the pattern
+    // is symmetric enough; compare against the exact integral of (1 - v/R) over the polygons instead:
+    // integral of v over a polygon = area x centroid_v (shoelace moments)
+    double expected = 0.0;
+    for (const auto& p : band) {
+        auto moment = [&](const ring2& r) {
+            double a = 0, mv = 0;
+            for (std::size_t i = 0; i < r.size(); ++i) {
+                const vec2 p0 = r[i], p1 = r[(i + 1) % r.size()];
+                const double cr = p0.x * p1.y - p1.x * p0.y;
+                a += 0.5 * cr;
+                mv += cr * (p0.y + p1.y) / 6.0;
+            }
+            return std::pair{a, mv};
+        };
+        auto [a, mv] = moment(p.outer);
+        expected += a - mv / R;
+        for (const auto& h : p.holes) {
+            auto [ah, mvh] = moment(h);
+            expected += ah - mvh / R;
+        }
+    }
+    // the arc bends to the left (towards +y), and n = (-t.y, t.x) points to the left, i.e. towards
+    // the centre: radius R - v, area element (1 - v / R)
+    CHECK(signed_volume(m) / 0.8 == Approx(expected).epsilon(2e-3));
+}
