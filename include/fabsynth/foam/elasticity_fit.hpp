@@ -3,15 +3,17 @@
 /// see data/foam/README.md). Degree-4 least-squares fit E/Es = P(rho, tau) of
 /// procedural-voronoi-foams.md §4.1 to homogenized periodic foam samples (Es = 1, nu_s = 0.3).
 ///
-/// Provenance: 20 samples = 20 (rho, tau) pairs x 1 global seeds (1..1);
+/// Provenance: 60 samples = 20 (rho, tau) pairs x 3 global seeds (1..3);
 /// rho in [0.031249999999999993, 2.4736842105263155] seeds/mm^3, tau in [0.20000000000000001, 0.29999999999999999] mm;
 /// base volume 60^3 hexahedral elements of side tau (sample side 60 tau), coverage supersampled 4^3 per element,
 /// ~4 seeds per coarse cell, FEM tolerance 9.9999999999999995e-07.
 /// The fit uses each sample and its exact scale equivalents (rho (tau/t)^3, t) at the other sampled
 /// radii t (E depends on rho (2 tau)^3 only; see foam_fit::fit_points).
-/// Largest deviation of a fit point from the fit: 44.810519615050104% of its E (paper: 3.3%).
-/// Gibson-Ashby fit on 0.040000000000000001 < w < 0.5 (9 samples): C = 1.2435727046699923, n = 1.9120127564913414 (paper: 0.85, 1.95).
-/// Fitted Poisson's ratio range [0.2489310992136762, 0.3755475833140785]; largest isotropy error 0.045549382885363421.
+/// Objective: relative residuals sum ((P - E) / E)^2 (paper: absolute).
+/// Largest deviation of a fit point from the fit: 5.6583735768366941% of its E (paper: 3.3%;
+/// with the absolute objective: 51.307960924625704%).
+/// Gibson-Ashby fit on 0.040000000000000001 < w < 0.5 (27 samples): C = 1.2333416097177652, n = 1.9032182172657675 (paper: 0.85, 1.95).
+/// Fitted Poisson's ratio range [0.2489310992136762, 0.37779733696620826]; largest isotropy error 0.045549382885363421.
 /// Valid only inside the sampled (rho, tau) region (the polynomial is not monotone far outside it).
 #include <cstddef>
 
@@ -20,29 +22,29 @@ namespace fabsynth::foam::fitted {
 /// Coefficients in elasticity_polynomial order: by total degree, then decreasing power of rho.
 inline constexpr int degree = 4;
 inline constexpr double coefficients[] = {
-    0.47907666033504964,
-    2.4195331090795391,
-    -10.11958423209175,
-    -0.78644437688609359,
-    -30.77672174924729,
-    75.99621797907912,
-    -0.010044253824059863,
-    8.2535849543500248,
-    128.64756343032465,
-    -244.38659845752821,
-    0.00096556392099375577,
-    0.021819137722736404,
-    -22.029944423142599,
-    -142.68866850172256,
-    285.70741973937351
+    -0.090584021016369073,
+    1.4989658112410795,
+    1.3756996713179501,
+    -0.9264747599827865,
+    -18.860634895436167,
+    -7.827564963136342,
+    0.0070973808363209009,
+    9.474284418715726,
+    77.305147563310385,
+    19.406736531710639,
+    0.0032341226382822828,
+    -0.12807713387919789,
+    -24.076608158480841,
+    -70.373696947981486,
+    -17.725529082081248
 };
-inline constexpr double max_relative_deviation = 0.44810519615050104;
+inline constexpr double max_relative_deviation = 0.056583735768366943;
 inline constexpr double rho_min = 0.031249999999999993, rho_max = 2.4736842105263155;  ///< sampled densities, seeds/mm^3
 inline constexpr double tau_min = 0.20000000000000001, tau_max = 0.29999999999999999;  ///< sampled radii, mm
 /// Sampled band of f = rho (2 tau)^3 (fraction of the full-block density; E depends on f only).
 inline constexpr double fraction_min = 0.002, fraction_max = 0.20000000000000001;
-inline constexpr double gibson_ashby_C = 1.2435727046699923, gibson_ashby_n = 1.9120127564913414;
-inline constexpr std::size_t samples = 20;
-inline constexpr int elements = 60, supersample = 4, seeds_per_pair = 1;
+inline constexpr double gibson_ashby_C = 1.2333416097177652, gibson_ashby_n = 1.9032182172657675;
+inline constexpr std::size_t samples = 60;
+inline constexpr int elements = 60, supersample = 4, seeds_per_pair = 3;
 
 }  // namespace fabsynth::foam::fitted

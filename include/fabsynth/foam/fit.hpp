@@ -31,11 +31,21 @@ struct elasticity_sample {
     double volume_fraction = 0;  ///< w: solid volume / cell volume
 };
 
+/// Which residual fit_polynomial minimises.
+enum class fit_error {
+    absolute,  ///< sum_i (P_i - E_i)^2: the paper's objective (§4.1)
+    relative,  ///< sum_i ((P_i - E_i) / E_i)^2: equal accuracy across moduli that span decades
+};
+
 /// Least-squares fit of P(rho, tau) of total degree `degree` minimising sum_i (P(rho_i, tau_i) - E_i)^2
-/// (paper §4.1). Columns are scaled to unit norm before the rank-revealing QR solve, because raw
+/// (paper §4.1), or the relative residuals (fit_error::relative; needs every E_i > 0). Why offer the
+/// second: with moduli spanning a factor of ~100, the absolute fit spreads one absolute error over
+/// all samples, which is tens of percent of the softest foams' E; the inverse mapping of §4.2 is
+/// used with relative targets (E/Es), so relative accuracy is what a user gets. Columns are scaled to unit norm before the rank-revealing QR solve, because raw
 /// monomials of rho (up to ~10 seeds/mm^3) and tau (~0.2 mm) differ by many orders of magnitude.
 /// @throws invalid_input with fewer samples than coefficients or non-finite samples.
-[[nodiscard]] inline elasticity_polynomial fit_polynomial(std::span<const elasticity_sample> samples, int degree = 4) {
+[[nodiscard]] inline elasticity_polynomial fit_polynomial(std::span<const elasticity_sample> samples, int degree = 4,
+                                                        fit_error error = fit_error::absolute) {
     elasticity_polynomial P;
     P.degree = degree;
     const int n = (degree + 1) * (degree + 2) / 2;
@@ -49,10 +59,13 @@ struct elasticity_sample {
         const auto& s = samples[r];
         if (!std::isfinite(s.density) || !std::isfinite(s.radius) || !std::isfinite(s.E))
             throw invalid_input("fit_polynomial: sample " + std::to_string(r) + " is not finite");
+        if (error == fit_error::relative && !(s.E > 0))
+            throw invalid_input("fit_polynomial: relative fit needs E > 0, sample " + std::to_string(r) + " has E = " + std::to_string(s.E));
+        const double row_weight = error == fit_error::relative ? 1.0 / s.E : 1.0;
         int k = 0;
         for (int d = 0; d <= degree; ++d)  // same monomial order as elasticity_polynomial
-            for (int i = d; i >= 0; --i) A(static_cast<Eigen::Index>(r), k++) = std::pow(s.density, i) * std::pow(s.radius, d - i);
-        b(static_cast<Eigen::Index>(r)) = s.E;
+            for (int i = d; i >= 0; --i) A(static_cast<Eigen::Index>(r), k++) = row_weight * std::pow(s.density, i) * std::pow(s.radius, d - i);
+        b(static_cast<Eigen::Index>(r)) = row_weight * s.E;
     }
     Eigen::VectorXd scale = A.colwise().norm().transpose();
     for (Eigen::Index c = 0; c < n; ++c)
