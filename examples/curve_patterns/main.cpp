@@ -1,0 +1,249 @@
+// curve_patterns: topology-constrained vector patterns along curves and in rectangles
+// (Zhou, Jiang & Lefebvre 2014, "Topology-constrained synthesis of vector patterns").
+//
+//   curve_patterns --exemplar E.svg (--curve C.svg | --line LENGTH | --circle RADIUS | --rect W H)
+//                  --height H [--components N] [--holes M] [--closed] [--closed-loop] [--seed S]
+//                  [--thickness T] [--tolerance TOL] [--slicing reeb|uniform] [--beta B] -o OUT.svg
+//
+// The exemplar (filled shapes of an SVG band lying along x) is scaled uniformly so that its height
+// equals H; pieces slide across the band by less than H/2 (§3.5), so the pattern stays within H of
+// the curve. The pattern is synthesized in the curve's (u, v) parameter domain
+// (pattern/synthesis.hpp), mapped onto the curve (pattern/band_map.hpp) and extruded to a
+// watertight slab tessellated in the parameter domain (geometry/extrude.hpp, §6.3).
+// Outputs: OUT.svg (filled shapes only), OUT.stl (T mm thick, the SVG's y axis flipped so the print
+// looks like the drawing), OUT.png (preview, pattern dark on white). Nothing is written unless
+// everything succeeded; an impossible request exits with status 1 and the reason on stderr.
+#include <CLI/CLI.hpp>
+
+#include <fabsynth/geometry/curve.hpp>
+#include <fabsynth/geometry/extrude.hpp>
+#include <fabsynth/geometry/mesh_topology.hpp>
+#include <fabsynth/geometry/triangulate.hpp>
+#include <fabsynth/io/image.hpp>
+#include <fabsynth/io/mesh_stl.hpp>
+#include <fabsynth/io/svg.hpp>
+#include <fabsynth/pattern/band_map.hpp>
+#include <fabsynth/pattern/exemplar.hpp>
+#include <fabsynth/pattern/synthesis.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace fabsynth;
+
+namespace {
+
+// The exemplar scaled about the origin by s (a similarity: simplicity and orientation are kept).
+pattern::exemplar scaled(const pattern::exemplar& ex, double s) {
+    pattern::exemplar out = ex;
+    auto scale_ring = [s](ring2& r) {
+        for (vec2& p : r) p *= s;
+    };
+    for (auto& p : out.polygons) {
+        scale_ring(p.outer);
+        for (ring2& h : p.holes) scale_ring(h);
+    }
+    out.bounds = box2(ex.bounds.lo * s, ex.bounds.hi * s);
+    return out;
+}
+
+// Preview: even-odd scanline fill of every ring with 4 x 4 samples per pixel; 0 = pattern, 255 =
+// background.
+image8 preview(const std::vector<polygon_with_holes>& polys, const box2& view, int max_side) {
+    const vec2 size = view.size();
+    const double px = std::max(size.x, size.y) / max_side;
+    const int w = std::max(1, static_cast<int>(std::ceil(size.x / px))), h = std::max(1, static_cast<int>(std::ceil(size.y / px)));
+    constexpr int ss = 4;
+    std::vector<int> cover(static_cast<std::size_t>(w) * h, 0);
+    std::vector<double> xs;
+    for (int row = 0; row < h * ss; ++row) {
+        const double y = view.lo.y + (row + 0.5) * px / ss;
+        xs.clear();
+        for (const auto& p : polys)
+            for (const ring2* r : [&] {
+                     std::vector<const ring2*> v{&p.outer};
+                     for (const ring2& hole : p.holes) v.push_back(&hole);
+                     return v;
+                 }())
+                for (std::size_t i = 0; i < r->size(); ++i) {
+                    const vec2 a = (*r)[i], b = (*r)[(i + 1) % r->size()];
+                    if ((a.y <= y) != (b.y <= y)) xs.push_back(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
+                }
+        std::sort(xs.begin(), xs.end());
+        for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
+            const long c0 = std::max(0L, static_cast<long>(std::ceil((xs[k] - view.lo.x) / px * ss - 0.5)));
+            const long c1 = std::min(static_cast<long>(w) * ss - 1, static_cast<long>(std::ceil((xs[k + 1] - view.lo.x) / px * ss - 0.5)) - 1);
+            for (long c = c0; c <= c1; ++c) ++cover[static_cast<std::size_t>(row / ss) * w + static_cast<std::size_t>(c / ss)];
+        }
+    }
+    image8 img(w, h, 1, 255);
+    for (std::size_t i = 0; i < cover.size(); ++i) img.data[i] = static_cast<std::uint8_t>(255 - (255 * cover[i]) / (ss * ss));
+    return img;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "curve_patterns: topology-constrained vector patterns along curves and in rectangles (Zhou et al. 2014).\n"
+        "The exemplar is scaled uniformly so that its height equals --height; pieces slide across the band by\n"
+        "less than --height/2, so the pattern stays within --height of the curve. Writes OUT.svg (filled shapes),\n"
+        "OUT.stl (extruded, watertight) and OUT.png (preview) side by side. Holes count holes of the pattern\n"
+        "glued along the band; on a closed curve a loop around the curve (--closed-loop) also encloses the\n"
+        "curve's inside, which the drawing shows as one more enclosed region."};
+    std::string exemplar_path, curve_path, out_path, slicing = "reeb";
+    std::optional<double> line_length, circle_radius;
+    std::vector<double> rect;
+    double height = 0, thickness = 1.0, tolerance = 0.0, beta = 0.0;
+    std::optional<std::uint32_t> components, holes;
+    bool closed = false, closed_loop = false;
+    std::uint64_t seed = 0;
+    app.add_option("--exemplar", exemplar_path, "exemplar SVG (filled shapes, a band along x)")->required()->check(CLI::ExistingFile);
+    auto* o_curve = app.add_option("--curve", curve_path, "curve SVG: the first path/polyline/line/circle... is the curve")->check(CLI::ExistingFile);
+    auto* o_line = app.add_option("--line", line_length, "straight line of this length (mm)");
+    auto* o_circle = app.add_option("--circle", circle_radius, "circle of this radius (mm), closed");
+    auto* o_rect = app.add_option("--rect", rect, "W H: rectangle of W x H mm, synthesized twice (§6.2)")->expected(2);
+    o_curve->excludes(o_line, o_circle, o_rect);
+    o_line->excludes(o_circle, o_rect);
+    o_circle->excludes(o_rect);
+    app.add_option("--height", height, "band height H (mm): the exemplar is scaled to this height")->required();
+    app.add_option("--components", components, "exact number of connected components");
+    app.add_option("--holes", holes, "exact number of holes");
+    app.add_flag("--closed", closed, "close the --curve path (last point joined to the first); a --circle is always closed");
+    app.add_flag("--closed-loop", closed_loop, "closed curves: some component must wind around the loop (paper Fig. 6)");
+    app.add_option("--seed", seed, "variety seed (same seed -> identical output)");
+    app.add_option("--thickness", thickness, "STL thickness (mm)")->capture_default_str();
+    app.add_option("--tolerance", tolerance, "max chord error of the mapped outlines (mm); default H/1000");
+    app.add_option("--slicing", slicing, "exemplar slicing: reeb (topology-driven, §5.2) or uniform (§5.1)")->capture_default_str();
+    app.add_option("--beta", beta, "autocorrelation penalty weight (§3.7), 0 = off")->capture_default_str();
+    app.add_option("-o,--output", out_path, "output SVG; OUT.stl and OUT.png are written beside it")->required();
+    CLI11_PARSE(app, argc, argv);
+
+    try {
+        const int shapes_given = !curve_path.empty() + line_length.has_value() + circle_radius.has_value() + !rect.empty();
+        if (shapes_given != 1) throw invalid_input("give exactly one of --curve, --line, --circle, --rect");
+        require_positive(height, "--height");
+        require_positive(thickness, "--thickness");
+        if (tolerance == 0.0) tolerance = height / 1000.0;
+        require_positive(tolerance, "--tolerance");
+        if (!(beta >= 0.0) || !std::isfinite(beta)) throw invalid_input("--beta must be finite and >= 0");
+        if (closed && (line_length || !rect.empty())) throw invalid_input("--closed applies to --curve (a --circle is always closed)");
+        if (slicing != "reeb" && slicing != "uniform") throw invalid_input("--slicing must be reeb or uniform, got '" + slicing + "'");
+
+        // Exemplar, scaled to the band height.
+        const pattern::exemplar raw = pattern::exemplar_from_svg(io::read_svg(exemplar_path));
+        if (!(raw.height() > 0.0)) throw invalid_input(exemplar_path + ": the exemplar has no height");
+        const pattern::exemplar ex = scaled(raw, height / raw.height());
+
+        pattern::synthesis_options so;
+        so.band_height = height;
+        so.components = components;
+        so.holes = holes;
+        so.closed_loop = closed_loop;
+        so.seed = seed;
+        so.beta = beta;
+        so.slicing = slicing == "uniform" ? pattern::slicing_method::uniform : pattern::slicing_method::reeb;
+
+        pattern::synthesis_result res;
+        std::vector<polygon_with_holes> drawn;  // output shapes in the plane (SVG user units = mm)
+        triangle_mesh mesh;
+        std::string what;
+        if (!rect.empty()) {
+            require_positive(rect[0], "--rect width");
+            require_positive(rect[1], "--rect height");
+            if (closed_loop) throw invalid_input("--closed-loop needs a closed curve");
+            pattern::rectangle_options ro;
+            ro.width = rect[0];
+            ro.height = rect[1];
+            ro.components = components;
+            ro.holes = holes;
+            ro.seed = seed;
+            ro.base = so;
+            res = pattern::synthesize_rectangle(ex, ro);
+            drawn = res.polygons;
+            mesh = extrude(triangulate(drawn), thickness);
+            what = "rectangle " + std::to_string(rect[0]) + " x " + std::to_string(rect[1]);
+        } else {
+            std::optional<planar_curve> curve;
+            if (line_length) {
+                curve = planar_curve::line(require_positive(*line_length, "--line length"));
+                what = "line";
+            } else if (circle_radius) {
+                const double r = require_positive(*circle_radius, "--circle radius");
+                curve = planar_curve::circle(r, {r + height, r + height});
+                what = "circle";
+            } else {
+                // Flatten the curve finely: 1e-4 of its drawing's size (the band map needs smooth normals).
+                const io::svg_document coarse = io::read_svg(curve_path);
+                const box2 b = coarse.bounds();
+                if (b.empty()) throw invalid_input(curve_path + ": the curve SVG has no shape");
+                const double diag = glm::length(b.size());
+                const io::svg_document doc = io::read_svg(curve_path, diag > 0.0 ? 1e-4 * diag : 0.01);
+                curve = curve_from_svg(doc, closed);
+                what = curve->closed() ? "closed curve" : "open curve";
+            }
+            // Necessary before any synthesis: the exemplar itself (|v| <= H/2) must fit the band.
+            curve->check_band(0.5 * height);
+            so.length = curve->length();
+            so.closed = curve->closed();
+            if (so.closed_loop && !so.closed) throw invalid_input("--closed-loop needs a closed curve (--circle, or --curve with --closed)");
+            res = pattern::synthesize_along(ex, so);
+            drawn = pattern::map_to_curve(res.polygons, *curve, {.chord_tolerance = tolerance});
+            mesh = extrude_along_curve(res.polygons, *curve, {.thickness = thickness, .chord_tolerance = tolerance});
+            what += " of length " + std::to_string(curve->length());
+        }
+        // STL in a y-up frame (the SVG is y-down): mirror y and flip the faces to stay outward.
+        for (vec3& p : mesh.vertices) p.y = -p.y;
+        for (auto& f : mesh.faces) std::swap(f[1], f[2]);
+        weld_to_float(mesh);
+        const mesh_topology_info mesh_topo = analyze_topology(mesh);
+        if (!mesh_topo.is_watertight())
+            throw solver_error("the extruded mesh is not watertight after rounding to single precision (" +
+                               std::to_string(mesh_topo.boundary_edges) + " boundary, " + std::to_string(mesh_topo.nonmanifold_edges) +
+                               " non-manifold edges)");
+
+        box2 bounds = bounding_box(drawn);
+        if (bounds.empty()) throw solver_error("the synthesized pattern is empty");
+        const double pad = 0.02 * std::max(bounds.size().x, bounds.size().y);
+        const box2 view(bounds.lo - vec2(pad), bounds.hi + vec2(pad));
+        io::svg_document doc;
+        doc.width = view.size().x, doc.height = view.size().y;
+        doc.width_unit = doc.height_unit = "mm";
+        doc.view_box = io::svg_view_box{view.lo.x, view.lo.y, view.size().x, view.size().y};
+        doc.shapes.push_back(io::shape_from_polygons(drawn));
+        const image8 png = preview(drawn, view, 1600);
+
+        const fs::path svg_out(out_path);
+        fs::path stl_out = svg_out, png_out = svg_out;
+        stl_out.replace_extension(".stl");
+        png_out.replace_extension(".png");
+        if (!svg_out.parent_path().empty()) fs::create_directories(svg_out.parent_path());
+        io::write_svg(svg_out, doc);
+        io::write_stl(stl_out, mesh);
+        io::write_png(png_out, png);
+
+        std::size_t rings = 0;
+        for (const auto& p : drawn) rings += 1 + p.holes.size();
+        std::printf("%s: %s, exemplar %s scaled to height %g\n", svg_out.string().c_str(), what.c_str(), exemplar_path.c_str(), height);
+        std::printf("pieces: %zu input, %zu in result; DP %.3f s (%zu entries, %.1f MB)\n", res.input_pieces, res.sequence.size(),
+                    res.dp_seconds, res.dp_entries, static_cast<double>(res.dp_peak_bytes) / (1024.0 * 1024.0));
+        std::printf("topology: %u components, %u holes; %zu rings drawn; STL %zu triangles, %g mm thick\n", res.components,
+                    res.holes, rings, mesh.faces.size(), thickness);
+    } catch (const fabsynth::error& e) {
+        std::cerr << "curve_patterns: " << e.what() << "\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "curve_patterns: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Topology-constrained vector patterns (Zhou et al. 2014): three bundled exemplars along an open
+# curve (data/curves/wave.svg), a straight line, a circle and a closed curve (data/curves/blob.svg),
+# and a rectangle (§6.2). Every result is one connected piece (--components 1); each run writes
+# NAME.svg (filled shapes), NAME.stl (1 mm thick, watertight) and NAME.png (preview) to $OUT_DIR.
+set -euo pipefail
+: "${BIN:?BIN must point at the built examples}" "${DATA:?DATA must point at data/}" "${OUT_DIR:?OUT_DIR must be set}"
+cp="$BIN/curve_patterns/curve_patterns"
+vec="$DATA/vector"
+run() {
+  local name=$1
+  shift
+  echo "== curve_patterns $name"
+  "$cp" "$@" -o "$OUT_DIR/curve_patterns_$name.svg"
+}
+run greek_key_wave   --exemplar "$vec/greek_key.svg"    --curve "$DATA/curves/wave.svg" --height 10 --components 1 --seed 1
+run lace_line        --exemplar "$vec/lace_scallop.svg" --line 100 --height 12 --components 1
+run quatrefoil_line  --exemplar "$vec/quatrefoil.svg"   --line 100 --height 10 --components 1
+run greek_key_circle --exemplar "$vec/greek_key.svg"    --circle 40 --height 10 --components 1 --closed-loop
+run greek_key_blob   --exemplar "$vec/greek_key.svg"    --curve "$DATA/curves/blob.svg" --closed --height 10 --components 1 --closed-loop
+run greek_key_rect   --exemplar "$vec/greek_key.svg"    --rect 60 40 --height 10 --components 1
