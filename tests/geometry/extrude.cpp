@@ -118,6 +118,15 @@ TEST_CASE("extrude_along_curve: closed circle, the seam is welded", "[geometry][
         CHECK(topo.components == 2);
         CHECK(topo.genus == 1);
     }
+    SECTION("a shape touching a cut at one vertex needs no partner (vine.svg on a circle did this)") {
+        const std::vector<polygon_with_holes> band{{{{L - 5, -1}, {L, -0.5}, {L - 5, 1}}, {}},
+                                                   {{{0, 0.7}, {5, 0}, {5, 1.5}}, {}}};
+        const triangle_mesh m = extrude_along_curve(band, c, {.thickness = t});
+        const auto topo = analyze_topology(m);
+        CHECK(topo.is_watertight());
+        CHECK(closed_and_oriented(m));
+        CHECK(topo.components == 2);
+    }
     SECTION("cuts that do not match are rejected") {
         const std::vector<polygon_with_holes> band{{rect(0, -1, 3, 1), {}}, {rect(L - 4, -1.5, L, 1.5), {}}};
         CHECK_THROWS_WITH(extrude_along_curve(band, c, {.thickness = t}), Contains("no partner"));

@@ -286,8 +286,16 @@ inline std::vector<polygon_with_holes> conform_seam(std::vector<polygon_with_hol
         std::vector<std::uint32_t> target(t.vertices.size());
         for (std::uint32_t i = 0; i < t.vertices.size(); ++i) target[i] = i;
         const double vtol = 1e-9 * std::max(L, vmax);
+        // Only vertices of edges lying on the cut need a partner: a shape may also touch the line
+        // u = L at a single vertex (its material ends there), which glues to nothing at u = 0.
+        std::vector<char> on_seam_edge(t.vertices.size(), 0);
+        for (const auto& tri : t.triangles)
+            for (int e = 0; e < 3; ++e) {
+                const std::uint32_t a = tri[e], b = tri[(e + 1) % 3];
+                if (t.vertices[a].x == L && t.vertices[b].x == L) on_seam_edge[a] = on_seam_edge[b] = 1;
+            }
         for (std::uint32_t i = 0; i < t.vertices.size(); ++i) {
-            if (t.vertices[i].x != L) continue;
+            if (t.vertices[i].x != L || !on_seam_edge[i]) continue;
             const double v = t.vertices[i].y;
             auto it = std::lower_bound(at0.begin(), at0.end(), std::pair{v - vtol, std::uint32_t{0}});
             if (it == at0.end() || it->first > v + vtol)
