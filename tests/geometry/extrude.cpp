@@ -13,6 +13,7 @@
 #include "fabsynth/geometry/triangulate.hpp"
 #include "fabsynth/io/svg.hpp"
 #include "fabsynth/pattern/exemplar.hpp"
+#include "support/vector_band.hpp"
 
 using namespace fabsynth;
 using Catch::Matchers::Contains;
@@ -140,14 +141,7 @@ TEST_CASE("extrude_along_curve: closed circle, the seam is welded", "[geometry][
 
 TEST_CASE("extrude_along_curve: a bundled exemplar along an open arc", "[geometry][extrude]") {
     const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/lace_scallop.svg"));
-    // band coordinates: u from 0, v centred
-    std::vector<polygon_with_holes> band = ex.polygons;
-    const vec2 shift{-ex.bounds.lo.x, -ex.bounds.center().y};
-    for (auto& p : band) {
-        for (vec2& q : p.outer) q += shift;
-        for (auto& h : p.holes)
-            for (vec2& q : h) q += shift;
-    }
+    std::vector<polygon_with_holes> band = test::vector_band("lace_scallop.svg");  // u from 0, v centred
     const double W = ex.width(), R = 1.5 * W / std::numbers::pi;  // a third of a circle
     std::vector<vec2> arc;
     for (int i = 0; i <= 2000; ++i) {

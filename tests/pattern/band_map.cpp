@@ -14,6 +14,7 @@
 #include "fabsynth/pattern/band_map.hpp"
 #include "fabsynth/pattern/exemplar.hpp"
 #include "support/raster_topology.hpp"
+#include "support/vector_band.hpp"
 
 using namespace fabsynth;
 using Catch::Matchers::Contains;
@@ -21,19 +22,7 @@ using Catch::Matchers::Contains;
 namespace {
 ring2 rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
 
-// A bundled exemplar in band coordinates: u from 0, v centred on 0.
-std::vector<polygon_with_holes> band_of(const char* file, double* width = nullptr) {
-    const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + file));
-    std::vector<polygon_with_holes> band = ex.polygons;
-    const vec2 shift{-ex.bounds.lo.x, -ex.bounds.center().y};
-    for (auto& p : band) {
-        for (vec2& q : p.outer) q += shift;
-        for (auto& h : p.holes)
-            for (vec2& q : h) q += shift;
-    }
-    if (width) *width = ex.width();
-    return band;
-}
+std::vector<polygon_with_holes> band_of(const char* file, double* width = nullptr) { return test::vector_band(file, width); }
 }  // namespace
 
 TEST_CASE("band map: a straight line maps the pattern isometrically (output = input)", "[pattern][band_map]") {
