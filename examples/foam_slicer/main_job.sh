@@ -9,3 +9,9 @@ out="$OUT_DIR/foam_slicer_bunny"
   --pixel 0.05 --slices 8 --field-axis 2 0.05 0.6 0 30 --radius 0.25 --cell 3 --seed 2016 --frame 0.5 \
   --stl-box 15 9 11 19 13 15 --stl-voxel 0.1 --beams-box 10 5 5 20 15 15
 cp "$out/preview.png" "$OUT_DIR/foam_slicer_preview.png"
+# The same bunny with a graded *elasticity* field (E/Es 0.05 at the bottom -> 0.4 at the top), mapped
+# to densities through the shipped fit foam/elasticity_fit.hpp at tau = 0.25 mm (paper §4.2).
+out="$OUT_DIR/foam_slicer_bunny_elasticity"
+"$BIN/foam_slicer/foam_slicer" slice "$DATA/meshes/bunny_lowres.obj" --y-up --size 40 --out-dir "$out" \
+  --pixel 0.05 --slices 8 --field-axis 2 0.05 0.4 0 30 --elasticity --radius 0.25 --cell 3 --seed 2016 --frame 0.5
+cp "$out/preview.png" "$OUT_DIR/foam_slicer_elasticity_preview.png"
