@@ -8,7 +8,7 @@
 /// One sample (rho, tau, seed):
 ///  - base volume: a cube of side S = elements * h with element (voxel) size h = tau, i.e. half the
 ///    beam diameter as the paper recommends (§4.1); the paper's >= 60^3 elements is the default;
-///  - periodic seeds (seeds.hpp, periodic_density): period P coarse cells per axis, coarse cell
+///  - periodic seeds (seeds.hpp, foam_options::period): period P coarse cells per axis, coarse cell
 ///    L = S / P with P chosen so that a coarse cell holds about `seeds_per_cell` seeds
 ///    (t = L^3 rho ~ 4 by default: the un-subdivided regime of Algorithm 3, as a 2-5 mm cell in a
 ///    typical print has); L >= tau is enforced (the evaluator needs tau <= L);
@@ -145,8 +145,8 @@ inline void validate(const config& c) {
     const std::int64_t P = sample_period(rho, side, tau, c.seeds_per_cell);
     if (period_out) *period_out = P;
     const double L = side / static_cast<double>(P);
-    const foam::voronoi_foam foam(foam::periodic_density<foam::constant_field>{{rho}, i64vec3(P)}, foam::constant_field{tau},
-                                  {.cell = L, .seed = seed});
+    const foam::voronoi_foam foam(foam::constant_field{rho}, foam::constant_field{tau},
+                                  {.cell = L, .seed = seed, .period = i64vec3(P)});
     constexpr int B = 4;
     const int nb = (n + B - 1) / B;
     const std::size_t blocks = static_cast<std::size_t>(nb) * nb * nb;

@@ -83,8 +83,8 @@ TEST_CASE("foam_fit voxel densities equal voronoi_foam::coverage", "[foam][elast
     const double rho = 0.5, tau = 0.25;
     const voxel_grid<double> g = foam_fit::sample_densities(rho, tau, 4, c, &P);
     const double L = c.elements * tau / static_cast<double>(P);
-    const foam::voronoi_foam foam(foam::periodic_density<foam::constant_field>{{rho}, i64vec3(P)}, foam::constant_field{tau},
-                                  {.cell = L, .seed = 4});
+    const foam::voronoi_foam foam(foam::constant_field{rho}, foam::constant_field{tau},
+                                  {.cell = L, .seed = 4, .period = i64vec3(P)});
     int differ = 0, partial = 0;
     for (int z = 0; z < c.elements; ++z)
         for (int y = 0; y < c.elements; ++y)

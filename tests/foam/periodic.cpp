@@ -1,4 +1,4 @@
-// Periodic seeds (seeds.hpp, seed_options::period / periodic_density): the seed set and the foam
+// Periodic seeds (seeds.hpp, seed_options::period / foam_options::period): the seed set and the foam
 // evaluated on it tile space exactly with one period = period * cell.
 #include <catch2/catch.hpp>
 
@@ -83,7 +83,7 @@ TEST_CASE("periodic foam: F(q) == F(q + S e_a) for random q", "[foam][periodic]"
     const double L = 2.5, tau = 0.3;
     const i64vec3 P(3, 2, 4);
     const vec3 S = vec3(P) * L;
-    voronoi_foam foam(periodic_density<constant_field>{{0.35}, P}, constant_field{tau}, {.cell = L, .seed = 2016});
+    voronoi_foam foam(constant_field{0.35}, constant_field{tau}, {.cell = L, .seed = 2016, .period = P});
     REQUIRE(foam.seeds().periodic());
     REQUIRE(foam.seeds().period_length() == S);
     std::mt19937_64 rng(7);
@@ -115,7 +115,7 @@ TEST_CASE("periodic seeds: bad periods are refused", "[foam][periodic]") {
     CHECK_THROWS_AS(seed_generator(constant_field{1.0}, {.cell = 2, .period = {0, 3, 3}}), invalid_input);
     CHECK_THROWS_AS(seed_generator(constant_field{1.0}, {.cell = 2, .period = {3, -1, 3}}), invalid_input);
     CHECK_THROWS_AS(seed_generator(constant_field{1.0}, {.cell = 2, .period = {3, 3, std::int64_t{1} << 40}}), invalid_input);
-    CHECK_THROWS_AS(voronoi_foam(periodic_density<constant_field>{{0.5}, {2, 0, 2}}, constant_field{0.2}, {.cell = 2}), invalid_input);
+    CHECK_THROWS_AS(voronoi_foam(constant_field{0.5}, constant_field{0.2}, {.cell = 2, .period = {2, 0, 2}}), invalid_input);
     CHECK_NOTHROW(seed_generator(constant_field{1.0}, {.cell = 2, .period = {1, 1, 1}}));
     CHECK_FALSE(seed_generator(constant_field{1.0}, {.cell = 2}).periodic());
 }

@@ -90,6 +90,7 @@ struct foam_options {
     std::uint64_t seed = 0;      ///< global random seed
     double max_density = 1e300;  ///< extra density cap, seeds/mm^3 (the full-block bound always applies)
     double max_radius = 0;       ///< bound on tau(x), mm; 0 = Radius::max_value() (required otherwise)
+    i64vec3 period{0};           ///< periodic foam: coarse cells per period per axis (seeds.hpp); 0 = aperiodic
 };
 
 /// Options of slice().
@@ -181,7 +182,7 @@ public:
     voronoi_foam(Density rho, Radius tau, foam_options opt = {})
         : tau_(tau), opt_(opt),
           gen_(detail::capped_density<Density, Radius>{std::move(rho), tau},
-               seed_options{.cell = opt.cell, .seed = opt.seed, .max_density = opt.max_density}) {
+               seed_options{.cell = opt.cell, .seed = opt.seed, .max_density = opt.max_density, .period = opt.period}) {
         if constexpr (bounded_field<Radius>) {
             if (opt_.max_radius == 0) opt_.max_radius = static_cast<double>(tau_.max_value());
         }

@@ -25,9 +25,7 @@
 /// shifted by (c - w) L. The seed set is then invariant under translations by Pa L along each axis
 /// a, so its Voronoi diagram, and the foam evaluated on it, tile space exactly with the box
 /// [0, P L) as one period; the evaluator needs no change because it only asks for cell_seeds(c).
-/// The period comes from seed_options::period or, when that is zero, from a density field that
-/// declares one (periodic_density below; voronoi_foam builds its seed_options itself and forwards
-/// the density, so wrapping the density is how a periodic voronoi_foam is made).
+/// The period is seed_options::period (voronoi_foam forwards foam_options::period).
 ///
 /// Usage:
 ///   fabsynth::foam::seed_generator gen(fabsynth::foam::constant_field{0.5}, {.cell = 2.0, .seed = 7});
@@ -63,26 +61,7 @@ struct seed_options {
 /// Largest period accepted (coarse cells per axis).
 inline constexpr std::int64_t max_period_cells = 1 << 20;
 
-/// A density field declaring that the foam built on it is periodic with `period` coarse cells per
-/// axis (see the file comment). Evaluates like the wrapped field; the generator does the wrapping.
-///   voronoi_foam f(periodic_density<constant_field>{{2.0}, {6, 6, 6}}, constant_field{0.25}, {.cell = 2.5});
-template <scalar_field F>
-struct periodic_density {
-    F field;
-    i64vec3 period{1};
-    [[nodiscard]] double operator()(const vec3& x) const { return static_cast<double>(field(x)); }
-    [[nodiscard]] i64vec3 period_cells() const noexcept { return period; }
-};
-
 namespace detail {
-/// The period a density declares: its period_cells(), or that of a field it wraps in a public
-/// member named `rho` (as voronoi_foam's density cap does), else (0,0,0).
-template <class D>
-[[nodiscard]] i64vec3 declared_period(const D& d) {
-    if constexpr (requires { { d.period_cells() } -> std::convertible_to<i64vec3>; }) return d.period_cells();
-    else if constexpr (requires { d.rho; }) return declared_period(d.rho);
-    else return i64vec3(0);
-}
 /// Floor division of a by b > 0.
 [[nodiscard]] constexpr std::int64_t floor_div(std::int64_t a, std::int64_t b) noexcept {
     const std::int64_t q = a / b;
@@ -114,7 +93,6 @@ public:
         const double l3 = opt_.cell * opt_.cell * opt_.cell;
         min_density_ = 1.0 / l3;
         max_density_ = std::max(min_density_, std::min(opt_.max_density, max_seeds_per_cell / l3));
-        if (opt_.period == i64vec3(0)) opt_.period = detail::declared_period(rho_);
         if (opt_.period != i64vec3(0))
             for (int a = 0; a < 3; ++a)
                 if (opt_.period[a] < 1 || opt_.period[a] > max_period_cells)
