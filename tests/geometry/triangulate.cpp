@@ -8,7 +8,6 @@
 // Centroids inside the polygon are checked too (a cheap independent point-location test).
 #include <catch2/catch.hpp>
 
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -170,21 +169,12 @@ TEST_CASE("triangulate: holes, including holes in line with each other and with 
     }
 }
 
-TEST_CASE("triangulate: every polygon of every bundled vector exemplar, in well under a second", "[geometry][triangulate]") {
+// Speed is measured in benchmarks/triangulate.cpp, not asserted here.
+TEST_CASE("triangulate: every polygon of every bundled vector exemplar", "[geometry][triangulate]") {
     for (const char* f : {"lace_scallop.svg", "greek_key.svg", "pearls.svg", "vine.svg", "quatrefoil.svg", "hearts.svg", "zigzag.svg"}) {
         INFO(f);
         const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f));
-        std::size_t vertices = 0;
-        const auto t0 = std::chrono::steady_clock::now();
-        std::vector<planar_triangulation> ts;
-        for (const auto& p : ex.polygons) ts.push_back(triangulate(p));
-        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        for (std::size_t i = 0; i < ex.polygons.size(); ++i) {
-            check_triangulation(ex.polygons[i], ts[i]);
-            vertices += ts[i].vertices.size();
-        }
-        WARN(f << ": " << vertices << " vertices, " << ex.holes() << " holes, triangulated in " << secs << " s");
-        CHECK(secs < 0.5);
+        for (const auto& p : ex.polygons) check_triangulation(p, triangulate(p));
     }
 }
 
