@@ -6,12 +6,12 @@
 
 #include "fabsynth/geometry/triangulate.hpp"
 #include "fabsynth/io/svg.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
 
 namespace {
 
 void BM_TriangulateExemplar(benchmark::State& state, const char* file) {
-    const auto ex = fabsynth::pattern::exemplar_from_svg(fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + file));
+    const auto ex = fabsynth::vector_pattern::exemplar_from_svg(fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + file));
     std::size_t vertices = 0;
     for (const auto& p : ex.polygons) {
         vertices += p.outer.size();

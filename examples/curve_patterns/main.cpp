@@ -8,7 +8,7 @@
 // The exemplar (filled shapes of an SVG band lying along x) is scaled uniformly so that its height
 // equals H; pieces slide across the band by less than H/2 (§3.5), so the pattern stays within H of
 // the curve. The pattern is synthesized in the curve's (u, v) parameter domain
-// (pattern/synthesis.hpp), mapped onto the curve (pattern/band_map.hpp) and extruded to a
+// (vector_pattern/synthesis.hpp), mapped onto the curve (vector_pattern/band_map.hpp) and extruded to a
 // watertight slab tessellated in the parameter domain (geometry/extrude.hpp, §6.3).
 // Outputs: OUT.svg (filled shapes only), OUT.stl (T mm thick, the SVG's y axis flipped so the print
 // looks like the drawing), OUT.png (preview, pattern dark on white). Nothing is written unless
@@ -22,9 +22,9 @@
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
 #include <fabsynth/io/svg.hpp>
-#include <fabsynth/pattern/band_map.hpp>
-#include <fabsynth/pattern/exemplar.hpp>
-#include <fabsynth/pattern/synthesis.hpp>
+#include <fabsynth/vector_pattern/band_map.hpp>
+#include <fabsynth/vector_pattern/exemplar.hpp>
+#include <fabsynth/vector_pattern/synthesis.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -43,8 +43,8 @@ using namespace fabsynth;
 namespace {
 
 // The exemplar scaled about the origin by s (a similarity: simplicity and orientation are kept).
-pattern::exemplar scaled(const pattern::exemplar& ex, double s) {
-    pattern::exemplar out = ex;
+vector_pattern::exemplar scaled(const vector_pattern::exemplar& ex, double s) {
+    vector_pattern::exemplar out = ex;
     auto scale_ring = [s](ring2& r) {
         for (vec2& p : r) p *= s;
     };
@@ -140,20 +140,20 @@ int main(int argc, char** argv) {
         if (slicing != "reeb" && slicing != "uniform") throw invalid_input("--slicing must be reeb or uniform, got '" + slicing + "'");
 
         // Exemplar, scaled to the band height.
-        const pattern::exemplar raw = pattern::exemplar_from_svg(io::read_svg(exemplar_path));
+        const vector_pattern::exemplar raw = vector_pattern::exemplar_from_svg(io::read_svg(exemplar_path));
         if (!(raw.height() > 0.0)) throw invalid_input(exemplar_path + ": the exemplar has no height");
-        const pattern::exemplar ex = scaled(raw, height / raw.height());
+        const vector_pattern::exemplar ex = scaled(raw, height / raw.height());
 
-        pattern::synthesis_options so;
+        vector_pattern::synthesis_options so;
         so.band_height = height;
         so.components = components;
         so.holes = holes;
         so.closed_loop = closed_loop;
         so.seed = seed;
         so.beta = beta;
-        so.slicing = slicing == "uniform" ? pattern::slicing_method::uniform : pattern::slicing_method::reeb;
+        so.slicing = slicing == "uniform" ? vector_pattern::slicing_method::uniform : vector_pattern::slicing_method::reeb;
 
-        pattern::synthesis_result res;
+        vector_pattern::synthesis_result res;
         std::vector<polygon_with_holes> drawn;  // output shapes in the plane (SVG user units = mm)
         triangle_mesh mesh;
         std::string what;
@@ -161,14 +161,14 @@ int main(int argc, char** argv) {
             require_positive(rect[0], "--rect width");
             require_positive(rect[1], "--rect height");
             if (closed_loop) throw invalid_input("--closed-loop needs a closed curve");
-            pattern::rectangle_options ro;
+            vector_pattern::rectangle_options ro;
             ro.width = rect[0];
             ro.height = rect[1];
             ro.components = components;
             ro.holes = holes;
             ro.seed = seed;
             ro.base = so;
-            res = pattern::synthesize_rectangle(ex, ro);
+            res = vector_pattern::synthesize_rectangle(ex, ro);
             drawn = res.polygons;
             mesh = extrude(triangulate(drawn), thickness);
             what = "rectangle " + std::to_string(rect[0]) + " x " + std::to_string(rect[1]);
@@ -196,8 +196,8 @@ int main(int argc, char** argv) {
             so.length = curve->length();
             so.closed = curve->closed();
             if (so.closed_loop && !so.closed) throw invalid_input("--closed-loop needs a closed curve (--circle, or --curve with --closed)");
-            res = pattern::synthesize_along(ex, so);
-            drawn = pattern::map_to_curve(res.polygons, *curve, {.chord_tolerance = tolerance});
+            res = vector_pattern::synthesize_along(ex, so);
+            drawn = vector_pattern::map_to_curve(res.polygons, *curve, {.chord_tolerance = tolerance});
             mesh = extrude_along_curve(res.polygons, *curve, {.thickness = thickness, .chord_tolerance = tolerance});
             what += " of length " + std::to_string(curve->length());
         }

@@ -12,7 +12,7 @@
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/triangulate.hpp"
 #include "fabsynth/io/svg.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
 #include "support/vector_band.hpp"
 
 using namespace fabsynth;
@@ -54,7 +54,7 @@ TEST_CASE("extrude: slabs are watertight, outward, with volume = area x thicknes
 }
 
 TEST_CASE("extrude: refinement bounds the x-extent of every edge and stays conforming", "[geometry][extrude]") {
-    const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/greek_key.svg"));
+    const auto ex = vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/greek_key.svg"));
     planar_triangulation t = triangulate(ex.polygons);
     const double a0 = area(ex.polygons);
     refine_x_extent(t, 0.7);
@@ -140,7 +140,7 @@ TEST_CASE("extrude_along_curve: closed circle, the seam is welded", "[geometry][
 }
 
 TEST_CASE("extrude_along_curve: a bundled exemplar along an open arc", "[geometry][extrude]") {
-    const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/lace_scallop.svg"));
+    const auto ex = vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/lace_scallop.svg"));
     std::vector<polygon_with_holes> band = test::vector_band("lace_scallop.svg");  // u from 0, v centred
     const double W = ex.width(), R = 1.5 * W / std::numbers::pi;  // a third of a circle
     std::vector<vec2> arc;

@@ -19,7 +19,7 @@
 #include "fabsynth/geometry/polygon.hpp"
 #include "fabsynth/geometry/triangulate.hpp"
 #include "fabsynth/io/svg.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
 
 using namespace fabsynth;
 
@@ -173,7 +173,7 @@ TEST_CASE("triangulate: holes, including holes in line with each other and with 
 TEST_CASE("triangulate: every polygon of every bundled vector exemplar", "[geometry][triangulate]") {
     for (const char* f : {"lace_scallop.svg", "greek_key.svg", "pearls.svg", "vine.svg", "quatrefoil.svg", "hearts.svg", "zigzag.svg"}) {
         INFO(f);
-        const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f));
+        const auto ex = vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f));
         for (const auto& p : ex.polygons) check_triangulation(p, triangulate(p));
     }
 }

@@ -6,12 +6,12 @@
 
 #include "fabsynth/geometry/polygon.hpp"
 #include "fabsynth/io/svg.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
 
 namespace fabsynth::test {
 
 inline std::vector<polygon_with_holes> vector_band(const std::string& file, double* width = nullptr) {
-    const auto ex = pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + file));
+    const auto ex = vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + file));
     std::vector<polygon_with_holes> band = ex.polygons;
     const vec2 shift{-ex.bounds.lo.x, -ex.bounds.center().y};
     for (auto& p : band) {

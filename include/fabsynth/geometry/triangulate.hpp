@@ -25,7 +25,7 @@
 /// Cost: O(h n) for h holes plus O(n k) for the ears (k = reflex vertices per visited grid cell
 /// range; about linear on typical outlines, O(n^2) worst case). Robust on the bundled exemplars
 /// (thousands of vertices, up to 78 holes). Input requirement: rings simple (is_simple), holes
-/// strictly inside the outer ring, no two rings crossing (what pattern::exemplar and Clipper
+/// strictly inside the outer ring, no two rings crossing (what vector_pattern::exemplar and Clipper
 /// produce). Throws invalid_input for rings with fewer than 3 points or non-finite points, and
 /// solver_error if ear clipping gets stuck (input violating the requirement).
 #include <algorithm>

@@ -21,8 +21,8 @@
 /// period) for such bands.
 ///
 /// Usage:
-///   auto r = fabsynth::pattern::reeb_slicing(ex, {.group_distance = 5.0, .min_portal_width = 1.0});
-///   auto pieces = fabsynth::pattern::slice(ex, r.cuts);
+///   auto r = fabsynth::vector_pattern::reeb_slicing(ex, {.group_distance = 5.0, .min_portal_width = 1.0});
+///   auto pieces = fabsynth::vector_pattern::slice(ex, r.cuts);
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -32,10 +32,10 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
-#include "fabsynth/pattern/pieces.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/pieces.hpp"
 
-namespace fabsynth::pattern {
+namespace fabsynth::vector_pattern {
 
 /// Options of the Reeb sweep.
 struct reeb_options {
@@ -158,4 +158,4 @@ inline bool topology_changes(const std::vector<std::pair<int, int>>& a, const st
     return r;
 }
 
-}  // namespace fabsynth::pattern
+}  // namespace fabsynth::vector_pattern

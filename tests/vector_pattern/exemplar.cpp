@@ -1,4 +1,4 @@
-// Tests for pattern/exemplar.hpp and geometry/clip.hpp.
+// Tests for vector_pattern/exemplar.hpp and geometry/clip.hpp.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -7,10 +7,10 @@
 
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/io/svg.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
 
 using namespace fabsynth;
-using fabsynth::pattern::exemplar;
+using fabsynth::vector_pattern::exemplar;
 
 namespace {
 
@@ -26,7 +26,7 @@ constexpr bundled bundled_exemplars[] = {
 
 std::string vector_path(const char* f) { return std::string(FABSYNTH_DATA_DIR) + "/vector/" + f; }
 
-pattern::exemplar_shape square(double x0, double y0, double s, bool ccw = true) {
+vector_pattern::exemplar_shape square(double x0, double y0, double s, bool ccw = true) {
     ring2 r{{x0, y0}, {x0 + s, y0}, {x0 + s, y0 + s}, {x0, y0 + s}};
     if (!ccw) orient(r, false);
     return {{r}, {true}, fill_rule::nonzero, ""};
@@ -38,7 +38,7 @@ TEST_CASE("every bundled vector exemplar loads with the documented components an
     for (const bundled& b : bundled_exemplars) {
         INFO(b.file);
         const io::svg_document doc = io::read_svg(vector_path(b.file));
-        const exemplar ex = pattern::exemplar_from_svg(doc);
+        const exemplar ex = vector_pattern::exemplar_from_svg(doc);
         CHECK(ex.components() == b.components);
         CHECK(ex.holes() == b.holes);
         CHECK_FALSE(ex.repaired);
@@ -59,12 +59,12 @@ TEST_CASE("every bundled vector exemplar loads with the documented components an
 
 TEST_CASE("exemplar orientation is recovered from nesting", "[pattern][exemplar]") {
     // Outer clockwise, hole counter-clockwise, in one even-odd shape.
-    pattern::exemplar_shape s;
+    vector_pattern::exemplar_shape s;
     ring2 outer{{0, 0}, {0, 10}, {10, 10}, {10, 0}}, hole{{2, 2}, {8, 2}, {8, 8}, {2, 8}};
     s.subpaths = {outer, hole};
     s.closed = {true, true};
     s.rule = fill_rule::evenodd;
-    const exemplar ex = pattern::make_exemplar({s});
+    const exemplar ex = vector_pattern::make_exemplar({s});
     REQUIRE(ex.components() == 1);
     REQUIRE(ex.holes() == 1);
     CHECK(signed_area(ex.polygons[0].outer) == Approx(100.0));
@@ -75,32 +75,32 @@ TEST_CASE("exemplar orientation is recovered from nesting", "[pattern][exemplar]
 TEST_CASE("invalid exemplar geometry is repaired by a union or rejected", "[pattern][exemplar]") {
     SECTION("self-intersecting bow tie") {
         // Two triangles meeting at (5,5), each of area 25.
-        pattern::exemplar_shape s{{{{0, 0}, {10, 10}, {10, 0}, {0, 10}}}, {true}, fill_rule::nonzero, "bowtie"};
-        const exemplar ex = pattern::make_exemplar({s});
+        vector_pattern::exemplar_shape s{{{{0, 0}, {10, 10}, {10, 0}, {0, 10}}}, {true}, fill_rule::nonzero, "bowtie"};
+        const exemplar ex = vector_pattern::make_exemplar({s});
         CHECK(ex.repaired);
         CHECK(ex.components() == 2);
         CHECK(ex.area() == Approx(50.0));
         for (const auto& p : ex.polygons) CHECK(is_simple(p.outer));
-        CHECK_THROWS_AS(pattern::make_exemplar({s}, {.repair = false}), invalid_input);
+        CHECK_THROWS_AS(vector_pattern::make_exemplar({s}, {.repair = false}), invalid_input);
     }
     SECTION("overlapping shapes merge") {
-        const exemplar ex = pattern::make_exemplar({square(0, 0, 10), square(5, 5, 10)});
+        const exemplar ex = vector_pattern::make_exemplar({square(0, 0, 10), square(5, 5, 10)});
         CHECK(ex.repaired);
         CHECK(ex.components() == 1);
         CHECK(ex.holes() == 0);
         CHECK(ex.area() == Approx(175.0));
-        CHECK_THROWS_AS(pattern::make_exemplar({square(0, 0, 10), square(5, 5, 10)}, {.repair = false}), invalid_input);
+        CHECK_THROWS_AS(vector_pattern::make_exemplar({square(0, 0, 10), square(5, 5, 10)}, {.repair = false}), invalid_input);
     }
     SECTION("nonzero rule with a same-orientation inner ring fills it") {
-        pattern::exemplar_shape s;
+        vector_pattern::exemplar_shape s;
         s.subpaths = {ring2{{0, 0}, {10, 0}, {10, 10}, {0, 10}}, ring2{{2, 2}, {8, 2}, {8, 8}, {2, 8}}};
         s.closed = {true, true};
         s.rule = fill_rule::nonzero;
-        const exemplar ex = pattern::make_exemplar({s});
+        const exemplar ex = vector_pattern::make_exemplar({s});
         CHECK(ex.holes() == 0);
         CHECK(ex.area() == Approx(100.0));
         s.rule = fill_rule::evenodd;
-        CHECK(pattern::make_exemplar({s}).holes() == 1);
+        CHECK(vector_pattern::make_exemplar({s}).holes() == 1);
     }
 }
 
@@ -108,26 +108,26 @@ TEST_CASE("bad exemplar input gives a clear fabsynth::error", "[pattern][exempla
     const std::string head = R"(<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">)";
     SECTION("empty SVG") {
         const auto doc = io::parse_svg(head + "</svg>", "empty.svg");
-        REQUIRE_THROWS_AS(pattern::exemplar_from_svg(doc), invalid_input);
-        REQUIRE_THROWS_WITH(pattern::exemplar_from_svg(doc), Catch::Contains("no filled shape"));
-        CHECK_THROWS_AS(pattern::make_exemplar({}), invalid_input);
+        REQUIRE_THROWS_AS(vector_pattern::exemplar_from_svg(doc), invalid_input);
+        REQUIRE_THROWS_WITH(vector_pattern::exemplar_from_svg(doc), Catch::Contains("no filled shape"));
+        CHECK_THROWS_AS(vector_pattern::make_exemplar({}), invalid_input);
     }
     SECTION("only a zero-area shape") {
         const auto doc = io::parse_svg(head + R"(<path d="M 0 0 L 5 5 L 10 10 Z"/></svg>)", "flat.svg");
-        CHECK_THROWS_WITH(pattern::exemplar_from_svg(doc), Catch::Contains("fill no area"));
+        CHECK_THROWS_WITH(vector_pattern::exemplar_from_svg(doc), Catch::Contains("fill no area"));
     }
     SECTION("open path") {
         const auto doc = io::parse_svg(head + R"(<path id="p1" d="M 0 0 L 10 0 L 10 10"/></svg>)", "open.svg");
-        REQUIRE_THROWS_AS(pattern::exemplar_from_svg(doc), invalid_input);
-        CHECK_THROWS_WITH(pattern::exemplar_from_svg(doc), Catch::Contains("open path") && Catch::Contains("p1"));
-        const exemplar ex = pattern::exemplar_from_svg(doc, {.open_paths = pattern::open_path_policy::close});
+        REQUIRE_THROWS_AS(vector_pattern::exemplar_from_svg(doc), invalid_input);
+        CHECK_THROWS_WITH(vector_pattern::exemplar_from_svg(doc), Catch::Contains("open path") && Catch::Contains("p1"));
+        const exemplar ex = vector_pattern::exemplar_from_svg(doc, {.open_paths = vector_pattern::open_path_policy::close});
         CHECK(ex.area() == Approx(50.0));
     }
     SECTION("NaN coordinates") {
         CHECK_THROWS_AS(io::parse_svg(head + R"(<path d="M 0 0 L NaN 0 L 10 10 Z"/></svg>)", "nan.svg"), fabsynth::error);
         const double nan = std::numeric_limits<double>::quiet_NaN();
-        pattern::exemplar_shape s{{{{0, 0}, {nan, 0}, {10, 10}}}, {true}, fill_rule::nonzero, ""};
-        CHECK_THROWS_WITH(pattern::make_exemplar({s}), Catch::Contains("non-finite"));
+        vector_pattern::exemplar_shape s{{{{0, 0}, {nan, 0}, {10, 10}}}, {true}, fill_rule::nonzero, ""};
+        CHECK_THROWS_WITH(vector_pattern::make_exemplar({s}), Catch::Contains("non-finite"));
         CHECK_THROWS_AS(polygon_union({ring2{{0, 0}, {nan, 1}, {1, 1}}}, fill_rule::nonzero), invalid_input);
     }
 }

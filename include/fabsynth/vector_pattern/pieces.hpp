@@ -20,8 +20,8 @@
 /// (reeb_slicing does, up to the raster resolution).
 ///
 /// Usage:
-///   auto cuts   = fabsynth::pattern::uniform_cuts(ex, 7);              // §5.1: 8 pieces
-///   auto pieces = fabsynth::pattern::slice(ex, cuts);
+///   auto cuts   = fabsynth::vector_pattern::uniform_cuts(ex, 7);              // §5.1: 8 pieces
+///   auto pieces = fabsynth::vector_pattern::slice(ex, cuts);
 ///   pieces[2].right.size();                                            // portals on its right side
 ///   auto d = pieces[2].descriptor();                                   // for dp::solve_sequence
 #include <algorithm>
@@ -35,10 +35,10 @@
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/polygon.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
 #include "fabsynth/topology/descriptor.hpp"
 
-namespace fabsynth::pattern {
+namespace fabsynth::vector_pattern {
 
 /// A segment of a piece side where the pattern interior was sliced.
 struct portal {
@@ -221,4 +221,4 @@ inline std::vector<portal> side_portals(const std::vector<polygon_with_holes>& p
     return out;
 }
 
-}  // namespace fabsynth::pattern
+}  // namespace fabsynth::vector_pattern

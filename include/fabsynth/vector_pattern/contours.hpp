@@ -5,7 +5,7 @@
 /// pieces (outer rings positive, holes negative, nonzero fill) are united by Clipper and clipped to
 /// the band's u range [0, L] in one boolean, on one integer grid. Neighbouring pieces share their
 /// portal segments exactly (stitching gives both sides the same endpoints), so the union joins them
-/// along those segments. The result is oriented as pattern::exemplar (outer rings positive area,
+/// along those segments. The result is oriented as vector_pattern::exemplar (outer rings positive area,
 /// holes negative; the paper's "outer clockwise" is the same thing seen in a y-down frame), rings
 /// are simple unless they touch themselves at a vertex (see below), islands inside holes are separate polygons. Vertices on the clipping line
 /// u = L are put back on L exactly (the grid may not hold L itself).
@@ -18,8 +18,8 @@
 /// topology::close_loop (the region a ring surrounds is not a hole of the band).
 ///
 /// Usage:
-///   auto polys = fabsynth::pattern::merge_contours(rings, L, grid);
-///   auto t = fabsynth::pattern::band_topology(polys, L, /*closed=*/true);   // t.components, t.holes
+///   auto polys = fabsynth::vector_pattern::merge_contours(rings, L, grid);
+///   auto t = fabsynth::vector_pattern::band_topology(polys, L, /*closed=*/true);   // t.components, t.holes
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -29,10 +29,10 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/polygon.hpp"
-#include "fabsynth/pattern/pieces.hpp"
+#include "fabsynth/vector_pattern/pieces.hpp"
 #include "fabsynth/topology/detail/union_find.hpp"
 
-namespace fabsynth::pattern {
+namespace fabsynth::vector_pattern {
 
 namespace detail {
 /// Splits a closed ring at every vertex it visits twice into loops that visit no vertex twice.
@@ -144,4 +144,4 @@ struct band_counts {
     return c;
 }
 
-}  // namespace fabsynth::pattern
+}  // namespace fabsynth::vector_pattern

@@ -13,7 +13,7 @@
 ///
 /// Usage:
 ///   auto curve = fabsynth::planar_curve::circle(40.0);
-///   auto shapes = fabsynth::pattern::map_to_curve(result.polygons, curve, {.chord_tolerance = 0.005});
+///   auto shapes = fabsynth::vector_pattern::map_to_curve(result.polygons, curve, {.chord_tolerance = 0.005});
 ///
 /// Errors (invalid_input): non-finite points, u outside [0, L], a band (max |v| of the pattern)
 /// that would fold or overlap itself (planar_curve::check_band), a bad tolerance.
@@ -29,7 +29,7 @@
 #include "fabsynth/geometry/extrude.hpp"
 #include "fabsynth/geometry/polygon.hpp"
 
-namespace fabsynth::pattern {
+namespace fabsynth::vector_pattern {
 
 /// Options of map_to_curve.
 struct band_map_options {
@@ -115,4 +115,4 @@ inline void densify(const planar_curve& c, vec2 p0, vec2 p1, double t0, double t
     return out;
 }
 
-}  // namespace fabsynth::pattern
+}  // namespace fabsynth::vector_pattern

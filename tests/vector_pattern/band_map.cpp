@@ -1,4 +1,4 @@
-// Tests for pattern/band_map.hpp: the map is exact on a line, radius R + v on a circle, chord error
+// Tests for vector_pattern/band_map.hpp: the map is exact on a line, radius R + v on a circle, chord error
 // within the tolerance, closed curves glued at the seam (topology re-counted by the raster oracle
 // of tests/support/raster_topology.hpp), bad input rejected.
 #include <catch2/catch.hpp>
@@ -11,8 +11,8 @@
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/io/svg.hpp"
-#include "fabsynth/pattern/band_map.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/band_map.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
 #include "support/raster_topology.hpp"
 #include "support/vector_band.hpp"
 
@@ -28,7 +28,7 @@ std::vector<polygon_with_holes> band_of(const char* file, double* width = nullpt
 TEST_CASE("band map: a straight line maps the pattern isometrically (output = input)", "[pattern][band_map]") {
     double W = 0;
     const auto band = band_of("vine.svg", &W);
-    const auto out = pattern::map_to_curve(band, planar_curve::line(W), {.chord_tolerance = 1e-6});
+    const auto out = vector_pattern::map_to_curve(band, planar_curve::line(W), {.chord_tolerance = 1e-6});
     REQUIRE(out.size() == band.size());
     for (std::size_t i = 0; i < band.size(); ++i) {
         REQUIRE(out[i].outer.size() == band[i].outer.size());  // nothing to densify on a line
@@ -46,7 +46,7 @@ TEST_CASE("band map: on a circle every vertex lies at radius R + v, edges within
     const planar_curve c = planar_curve::circle(R);
     // a sector [u0, u1] x [v0, v1]: its image is an annular sector of known area
     const double u0 = 5, u1 = 40, v0 = -4, v1 = 6;
-    const auto out = pattern::map_to_curve({{rect(u0, v0, u1, v1), {}}}, c, {.chord_tolerance = tol});
+    const auto out = vector_pattern::map_to_curve({{rect(u0, v0, u1, v1), {}}}, c, {.chord_tolerance = tol});
     REQUIRE(out.size() == 1);
     std::size_t on_inner = 0, on_outer = 0;
     for (const vec2& p : out[0].outer) {
@@ -79,7 +79,7 @@ TEST_CASE("band map: closed curves glue shapes cut at u = 0 and u = L", "[patter
         const std::vector<polygon_with_holes> band{{rect(0, -1, 3, 1), {}},
                                                    {rect(L - 4, -1, L, 1), {rect(L - 3, -0.5, L - 1, 0.5)}},
                                                    {rect(10, -1, 20, 1), {}}};
-        const auto out = pattern::map_to_curve(band, c, {.chord_tolerance = 1e-3});
+        const auto out = vector_pattern::map_to_curve(band, c, {.chord_tolerance = 1e-3});
         CHECK(out.size() == 2);
         std::size_t holes = 0;
         for (const auto& p : out) {
@@ -92,7 +92,7 @@ TEST_CASE("band map: closed curves glue shapes cut at u = 0 and u = L", "[patter
         CHECK(t.holes == 1);
     }
     SECTION("a full-length band becomes an annulus (one component, one hole)") {
-        const auto out = pattern::map_to_curve({{rect(0, -2, L, 2), {}}}, c, {.chord_tolerance = 1e-3});
+        const auto out = vector_pattern::map_to_curve({{rect(0, -2, L, 2), {}}}, c, {.chord_tolerance = 1e-3});
         REQUIRE(out.size() == 1);
         CHECK(out[0].holes.size() == 1);
         const auto t = test::raster_topology(out, {-R - 3, -R - 3}, {R + 3, R + 3}, 0.05);
@@ -104,7 +104,7 @@ TEST_CASE("band map: closed curves glue shapes cut at u = 0 and u = L", "[patter
         double W = 0;
         const auto band = band_of("zigzag.svg", &W);
         const planar_curve loop = planar_curve::circle(W / (2 * std::numbers::pi));
-        const auto out = pattern::map_to_curve(band, loop, {.chord_tolerance = 0.01});
+        const auto out = vector_pattern::map_to_curve(band, loop, {.chord_tolerance = 0.01});
         const double r = loop.length() / (2 * std::numbers::pi) + 30;
         const auto t = test::raster_topology(out, {-r, -r}, {r, r}, 0.1);
         CHECK(t.components == 1);
@@ -137,7 +137,7 @@ TEST_CASE("band map: an exemplar with many holes along an open polyline keeps it
         for (auto& h : p.holes)
             for (vec2& q : h) q.x *= c.length() / W;
     }
-    const auto out = pattern::map_to_curve(fitted, c, {.chord_tolerance = 0.01});
+    const auto out = vector_pattern::map_to_curve(fitted, c, {.chord_tolerance = 0.01});
     const auto ex_t = test::raster_topology(fitted, {0, -40}, {c.length(), 40}, 0.1);
     const box2 b = bounding_box(out);
     const auto t = test::raster_topology(out, b.lo, b.hi, 0.1);
@@ -152,8 +152,8 @@ TEST_CASE("band map: an exemplar with many holes along an open polyline keeps it
 
 TEST_CASE("band map: bad input is rejected with a message", "[pattern][band_map]") {
     const planar_curve c = planar_curve::circle(10.0);
-    CHECK_THROWS_WITH(pattern::map_to_curve({{rect(0, -1, 100, 1), {}}}, c), Contains("outside"));
-    CHECK_THROWS_WITH(pattern::map_to_curve({{rect(0, -10, 5, 1), {}}}, c), Contains("radius of curvature"));
-    CHECK_THROWS_WITH(pattern::map_to_curve({{{{0, 0}, {1, std::nan("")}, {2, 1}}, {}}}, c), Contains("non-finite"));
-    CHECK_THROWS_AS(pattern::map_to_curve({{rect(0, -1, 5, 1), {}}}, c, {.chord_tolerance = 0}), invalid_input);
+    CHECK_THROWS_WITH(vector_pattern::map_to_curve({{rect(0, -1, 100, 1), {}}}, c), Contains("outside"));
+    CHECK_THROWS_WITH(vector_pattern::map_to_curve({{rect(0, -10, 5, 1), {}}}, c), Contains("radius of curvature"));
+    CHECK_THROWS_WITH(vector_pattern::map_to_curve({{{{0, 0}, {1, std::nan("")}, {2, 1}}, {}}}, c), Contains("non-finite"));
+    CHECK_THROWS_AS(vector_pattern::map_to_curve({{rect(0, -1, 5, 1), {}}}, c, {.chord_tolerance = 0}), invalid_input);
 }

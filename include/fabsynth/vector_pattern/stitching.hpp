@@ -43,9 +43,9 @@
 /// have the moved chain as an exact (zero-residual) solution: the deformation reproduces it.
 ///
 /// Usage:
-///   fabsynth::pattern::lri_chain c(points);                        // factorises
+///   fabsynth::vector_pattern::lri_chain c(points);                        // factorises
 ///   auto moved = c.deform(a, b, dir_first, dir_last);               // new polyline, same size
-///   fabsynth::pattern::piece_boundary pb(piece);                    // all chains of a piece
+///   fabsynth::vector_pattern::piece_boundary pb(piece);                    // all chains of a piece
 ///   auto rings = pb.deform(targets_left, targets_right, placement); // stitched rings
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
@@ -61,9 +61,9 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/polygon.hpp"
-#include "fabsynth/pattern/pieces.hpp"
+#include "fabsynth/vector_pattern/pieces.hpp"
 
-namespace fabsynth::pattern {
+namespace fabsynth::vector_pattern {
 
 /// LRI deformation of one open polyline with constrained end positions and end edge directions.
 class lri_chain {
@@ -226,7 +226,7 @@ struct endpoint_ref {
     friend bool operator==(const endpoint_ref&, const endpoint_ref&) = default;
 };
 
-/// New position and outline tangent (x >= 0 convention of pattern::portal) of a portal endpoint.
+/// New position and outline tangent (x >= 0 convention of vector_pattern::portal) of a portal endpoint.
 struct endpoint_target {
     vec2 position{0.0, 0.0};
     vec2 tangent{1.0, 0.0};
@@ -345,7 +345,7 @@ private:
         const std::size_t n = r.size();
         ring_parts parts;
         parts.outer = outer;
-        // Runs of edges on a side line, as pattern::detail::side_portals finds them.
+        // Runs of edges on a side line, as vector_pattern::detail::side_portals finds them.
         struct run {
             std::size_t first, last_point;  // points first..last_point (ring indices) lie on the line
             piece_side side;
@@ -414,4 +414,4 @@ private:
     std::vector<ring_parts> rings_;
 };
 
-}  // namespace fabsynth::pattern
+}  // namespace fabsynth::vector_pattern

@@ -1,4 +1,4 @@
-// Tests for pattern/synthesis.hpp (with pattern/offsets.hpp, pattern/stitching.hpp, pattern/contours.hpp)
+// Tests for vector_pattern/synthesis.hpp (with vector_pattern/offsets.hpp, vector_pattern/stitching.hpp, vector_pattern/contours.hpp)
 // and the raster topology oracle of tests/support/raster_topology.hpp.
 #include <catch2/catch.hpp>
 
@@ -13,18 +13,18 @@
 #include <vector>
 
 #include "fabsynth/io/svg.hpp"
-#include "fabsynth/pattern.hpp"
+#include "fabsynth/vector_pattern.hpp"
 #include "support/raster_topology.hpp"
 
 using namespace fabsynth;
-using pattern::exemplar;
+using vector_pattern::exemplar;
 
 namespace {
 
 constexpr const char* bundled_files[] = {"lace_scallop.svg", "greek_key.svg", "pearls.svg", "vine.svg",
                                          "quatrefoil.svg",   "hearts.svg",    "zigzag.svg"};
 
-exemplar load(const std::string& f) { return pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f)); }
+exemplar load(const std::string& f) { return vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f)); }
 
 ring2 rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
 
@@ -35,7 +35,7 @@ test::raster_topology_result oracle(const std::vector<polygon_with_holes>& polys
 }
 
 // Properties every band result must have.
-void check_band(const pattern::synthesis_result& r, double L, bool closed) {
+void check_band(const vector_pattern::synthesis_result& r, double L, bool closed) {
     REQUIRE_FALSE(r.polygons.empty());
     for (const polygon_with_holes& p : r.polygons) {
         REQUIRE(is_simple(p.outer));
@@ -51,7 +51,7 @@ void check_band(const pattern::synthesis_result& r, double L, bool closed) {
     }
     if (closed) {
         // The cut at u = 0 equals the cut at u = L.
-        const auto a = pattern::detail::side_portals(r.polygons, 0.0), b = pattern::detail::side_portals(r.polygons, L);
+        const auto a = vector_pattern::detail::side_portals(r.polygons, 0.0), b = vector_pattern::detail::side_portals(r.polygons, L);
         REQUIRE(a.size() == b.size());
         for (std::size_t k = 0; k < a.size(); ++k) {
             REQUIRE(a[k].top == b[k].top);
@@ -100,7 +100,7 @@ TEST_CASE("offsets: sparse solve equals a dense least-squares solve", "[pattern]
                 tau[k] = rng.uniform(-5.0, 5.0);
                 w[k] = rng.uniform() < 0.2 ? 0.0 : double(2 * (1 + rng.uniform_int(3)));  // some junctions without portals
             }
-            const std::vector<double> delta = pattern::solve_offsets(tau, w, closed != 0);
+            const std::vector<double> delta = vector_pattern::solve_offsets(tau, w, closed != 0);
             REQUIRE(delta.size() == pieces);
             REQUIRE(delta[0] == 0.0);
             if (!closed) REQUIRE(delta[pieces - 1] == 0.0);
@@ -123,8 +123,8 @@ TEST_CASE("offsets: sparse solve equals a dense least-squares solve", "[pattern]
             for (std::size_t i = 0; i < pieces; ++i)
                 if (col[i] >= 0) REQUIRE(delta[i] == Approx(x[col[i]]).margin(1e-9));
         }
-    CHECK_THROWS_AS(pattern::solve_offsets(std::vector<double>{1.0}, std::vector<double>{}, false), invalid_input);
-    CHECK_THROWS_AS(pattern::solve_offsets(std::vector<double>{std::nan("")}, std::vector<double>{1.0}, false), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::solve_offsets(std::vector<double>{1.0}, std::vector<double>{}, false), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::solve_offsets(std::vector<double>{std::nan("")}, std::vector<double>{1.0}, false), invalid_input);
 }
 
 TEST_CASE("LRI chain: rigid motions are reproduced and end constraints met", "[pattern][synthesis][stitching]") {
@@ -133,7 +133,7 @@ TEST_CASE("LRI chain: rigid motions are reproduced and end constraints met", "[p
         const double t = i / 40.0;
         pts.emplace_back(10.0 * t, 2.0 * std::sin(6.0 * t) + 0.3 * t * t);
     }
-    const pattern::lri_chain chain(pts);
+    const vector_pattern::lri_chain chain(pts);
     for (double angle : {0.0, 0.3, 1.7, -2.9}) {
         const double c = std::cos(angle), s = std::sin(angle);
         const vec2 shift(3.5, -1.25);
@@ -156,31 +156,31 @@ TEST_CASE("LRI chain: rigid motions are reproduced and end constraints met", "[p
     // so the end edges follow them closely but not exactly (see stitching.hpp).
     CHECK(glm::dot(e0, glm::normalize(da)) > 0.9);
     CHECK(glm::dot(e1, glm::normalize(db)) > 0.9);
-    CHECK_THROWS_AS(pattern::lri_chain(std::vector<vec2>{{0, 0}}), invalid_input);
-    CHECK_THROWS_AS(pattern::lri_chain(std::vector<vec2>{{0, 0}, {0, 0}}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::lri_chain(std::vector<vec2>{{0, 0}}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::lri_chain(std::vector<vec2>{{0, 0}, {0, 0}}), invalid_input);
 }
 
 TEST_CASE("stitching a piece stretched along u reproduces the stretched piece", "[pattern][synthesis][stitching]") {
     // Oracle: the piece's own rings under x -> u0 + (x - x0) s. With targets on that map (stretched
     // endpoint tangents too) the stretched rest shape is met exactly, for a compression and an extension.
     const exemplar ex = load("greek_key.svg");
-    const auto pieces = pattern::slice(ex, std::vector<double>{ex.bounds.lo.x + 101.2345, ex.bounds.lo.x + 203.4567});
-    const pattern::piece& P = pieces[1];
+    const auto pieces = vector_pattern::slice(ex, std::vector<double>{ex.bounds.lo.x + 101.2345, ex.bounds.lo.x + 203.4567});
+    const vector_pattern::piece& P = pieces[1];
     REQUIRE_FALSE(P.left.empty());
     REQUIRE_FALSE(P.right.empty());
     for (double s : {0.8, 1.0, 1.2}) {
         INFO("u_scale " << s);
         const double u0 = 10.0, u1 = u0 + (P.x1 - P.x0) * s;
         auto stretch = [&](vec2 q) { return vec2(u0 + (q.x - P.x0) * s, q.y); };
-        auto targets = [&](pattern::piece_side side, double u) {
-            std::vector<pattern::endpoint_target> t;
+        auto targets = [&](vector_pattern::piece_side side, double u) {
+            std::vector<vector_pattern::endpoint_target> t;
             const auto h = P.heights(side);
             const auto g = P.tangents(side);
             for (std::size_t e = 0; e < h.size(); ++e) t.push_back({{u, h[e]}, glm::normalize(vec2(g[e].x * s, g[e].y))});
             return t;
         };
-        const pattern::piece_boundary pb(P, s);
-        const auto rings = pb.deform(targets(pattern::piece_side::left, u0), targets(pattern::piece_side::right, u1), {u0, u1, 0.0, 0.0});
+        const vector_pattern::piece_boundary pb(P, s);
+        const auto rings = pb.deform(targets(vector_pattern::piece_side::left, u0), targets(vector_pattern::piece_side::right, u1), {u0, u1, 0.0, 0.0});
         double stretched_area = 0.0, stitched_area = 0.0;
         for (const auto& poly : P.polygons) {
             stretched_area += s * area(poly);
@@ -202,28 +202,28 @@ TEST_CASE("stitching a piece stretched along u reproduces the stretched piece", 
         CHECK(far == 0);
         CHECK(stitched_area == Approx(stretched_area).epsilon(1e-9));
     }
-    CHECK_THROWS_AS(pattern::piece_boundary(P, 0.0), invalid_input);
-    CHECK_THROWS_AS(pattern::piece_boundary(P, std::nan("")), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::piece_boundary(P, 0.0), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::piece_boundary(P, std::nan("")), invalid_input);
 }
 
 TEST_CASE("stitched seams: matching portal endpoints of neighbouring pieces coincide", "[pattern][synthesis][stitching]") {
     const exemplar ex = load("greek_key.svg");
-    const auto pieces = pattern::slice(ex, std::vector<double>{ex.bounds.lo.x + 101.2345, ex.bounds.lo.x + 203.4567});
-    const pattern::piece &A = pieces[0], &B = pieces[1];
+    const auto pieces = vector_pattern::slice(ex, std::vector<double>{ex.bounds.lo.x + 101.2345, ex.bounds.lo.x + 203.4567});
+    const vector_pattern::piece &A = pieces[0], &B = pieces[1];
     REQUIRE(A.right.size() == B.left.size());
     REQUIRE_FALSE(A.right.empty());
     // Junction targets as synthesize_along builds them: averages of both sides, at u = 50.
-    std::vector<pattern::endpoint_target> tr, tl;
-    const auto ha = A.heights(pattern::piece_side::right), hb = B.heights(pattern::piece_side::left);
+    std::vector<vector_pattern::endpoint_target> tr, tl;
+    const auto ha = A.heights(vector_pattern::piece_side::right), hb = B.heights(vector_pattern::piece_side::left);
     for (std::size_t e = 0; e < ha.size(); ++e) {
         const double v = 0.5 * (ha[e] + 0.7 + hb[e]);  // A slid by 0.7
         tr.push_back({{50.0, v}, {1.0, 0.1}});
         tl.push_back({{50.0, v}, {1.0, 0.1}});
     }
-    std::vector<pattern::endpoint_target> left_end, right_end;
-    for (double y : A.heights(pattern::piece_side::left)) left_end.push_back({{0.0, y}, {1.0, 0.0}});
-    for (double y : B.heights(pattern::piece_side::right)) right_end.push_back({{120.0, y}, {1.0, 0.0}});
-    const pattern::piece_boundary pa(A), pb(B);
+    std::vector<vector_pattern::endpoint_target> left_end, right_end;
+    for (double y : A.heights(vector_pattern::piece_side::left)) left_end.push_back({{0.0, y}, {1.0, 0.0}});
+    for (double y : B.heights(vector_pattern::piece_side::right)) right_end.push_back({{120.0, y}, {1.0, 0.0}});
+    const vector_pattern::piece_boundary pa(A), pb(B);
     const auto ra = pa.deform(left_end, tr, {0.0, 50.0, 0.0, 0.7});
     const auto rb = pb.deform(tl, right_end, {50.0, 120.0, 0.0, 0.0});
     // Every junction endpoint appears in both pieces' rings, at the same place (1e-9).
@@ -264,14 +264,14 @@ void sweep(const std::vector<std::string>& files, const std::vector<double>& fac
             for (double factor : factors) {
                 const double L = std::round(factor * ex.width());
                 INFO(f << " closed=" << closed << " L=" << L);
-                pattern::synthesis_options o;
+                vector_pattern::synthesis_options o;
                 o.length = L;
                 o.closed = closed != 0;
                 if (ex.components() == 1) o.components = 1;
                 ++cases;
-                pattern::synthesis_result r;
+                vector_pattern::synthesis_result r;
                 try {
-                    r = pattern::synthesize_along(ex, o);
+                    r = vector_pattern::synthesize_along(ex, o);
                 } catch (const solver_error& e) {
                     WARN(e.what());
                     ++refused;
@@ -280,12 +280,12 @@ void sweep(const std::vector<std::string>& files, const std::vector<double>& fac
                 check_band(r, L, o.closed);
                 if (o.components) CHECK(r.components == 1);
                 // Ask again for exactly what was produced, with another seed: met exactly or refused.
-                pattern::synthesis_options o2 = o;
+                vector_pattern::synthesis_options o2 = o;
                 o2.components = r.components;
                 o2.holes = r.holes;
                 o2.seed = 7;
                 try {
-                    const auto r2 = pattern::synthesize_along(ex, o2);
+                    const auto r2 = vector_pattern::synthesize_along(ex, o2);
                     check_band(r2, L, o.closed);
                     CHECK(r2.components == r.components);
                     CHECK(r2.holes == r.holes);
@@ -346,7 +346,7 @@ TEST_CASE("holes near a stitched chain keep their clearance", "[pattern][synthes
     REQUIRE(original < 0.05);
     for (bool closed : {false, true}) {
         INFO("closed " << closed);
-        const auto r = pattern::synthesize_along(ex, {.length = 384.0, .closed = closed, .components = 1});
+        const auto r = vector_pattern::synthesize_along(ex, {.length = 384.0, .closed = closed, .components = 1});
         CHECK(tiny_hole_clearance(r.polygons) > 0.5 * original);
         for (const auto& p : r.polygons)
             for (const ring2& h : p.holes)
@@ -356,8 +356,8 @@ TEST_CASE("holes near a stitched chain keep their clearance", "[pattern][synthes
 
 TEST_CASE("synthesis is deterministic", "[pattern][synthesis]") {
     const exemplar ex = load("quatrefoil.svg");
-    pattern::synthesis_options o{.length = 300.0, .closed = true, .seed = 42};
-    const auto a = pattern::synthesize_along(ex, o), b = pattern::synthesize_along(ex, o);
+    vector_pattern::synthesis_options o{.length = 300.0, .closed = true, .seed = 42};
+    const auto a = vector_pattern::synthesize_along(ex, o), b = vector_pattern::synthesize_along(ex, o);
     CHECK(a.polygons == b.polygons);
     CHECK(a.sequence == b.sequence);
 }
@@ -366,27 +366,27 @@ TEST_CASE("impossible or malformed requests throw the right error quickly", "[pa
     const exemplar zig = load("zigzag.svg");
     const auto start = std::chrono::steady_clock::now();
     // The zigzag is one simple polygon: no arrangement of its pieces has a hole.
-    CHECK_THROWS_AS(pattern::synthesize_along(zig, {.length = 300.0, .holes = 1}), no_solution);
-    CHECK_THROWS_AS(pattern::synthesize_along(zig, {.length = 300.0, .components = 2}), no_solution);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(zig, {.length = 300.0, .holes = 1}), no_solution);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(zig, {.length = 300.0, .components = 2}), no_solution);
     // Shorter than the first and last pieces together.
-    CHECK_THROWS_AS(pattern::synthesize_along(zig, {.length = 1.0}), no_solution);
-    CHECK_THROWS_AS(pattern::synthesize_along(zig, {.length = std::nan("")}), invalid_input);
-    CHECK_THROWS_AS(pattern::synthesize_along(zig, {.length = -5.0}), invalid_input);
-    CHECK_THROWS_AS(pattern::synthesize_along(zig, {.length = 300.0, .components = 0}), invalid_input);
-    CHECK_THROWS_AS(pattern::synthesize_along(exemplar{}, {.length = 300.0}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(zig, {.length = 1.0}), no_solution);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(zig, {.length = std::nan("")}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(zig, {.length = -5.0}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(zig, {.length = 300.0, .components = 0}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(exemplar{}, {.length = 300.0}), invalid_input);
     // A single piece with one portal on its left and none on its right: no piece can follow it,
     // so no closed loop exists.
-    pattern::exemplar_shape wedge;
+    vector_pattern::exemplar_shape wedge;
     wedge.subpaths = {{{0, 0}, {30, 5}, {0, 10}}};
-    const exemplar w = pattern::make_exemplar({wedge});
-    pattern::synthesis_options ow{.length = 100.0, .closed = true};
-    ow.slicing = pattern::slicing_method::uniform;
+    const exemplar w = vector_pattern::make_exemplar({wedge});
+    vector_pattern::synthesis_options ow{.length = 100.0, .closed = true};
+    ow.slicing = vector_pattern::slicing_method::uniform;
     ow.uniform_lines = 0;
-    CHECK_THROWS_AS(pattern::synthesize_along(w, ow), no_solution);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(w, ow), no_solution);
     // Met only by stretching far from the target length (one piece across the whole curve): refused.
     ow.closed = false;
     ow.length = 100.0;
-    CHECK_THROWS_AS(pattern::synthesize_along(w, ow), no_solution);
+    CHECK_THROWS_AS(vector_pattern::synthesize_along(w, ow), no_solution);
     CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 60.0);
 }
 
@@ -394,7 +394,7 @@ TEST_CASE("rectangles have the exact size and the requested topology", "[pattern
     const exemplar ex = load("greek_key.svg");
     for (auto [W, H] : {std::pair{250.0, 200.0}, std::pair{400.0, 130.0}}) {
         INFO("W=" << W << " H=" << H);
-        const auto r = pattern::synthesize_rectangle(ex, {.width = W, .height = H, .components = 1});
+        const auto r = vector_pattern::synthesize_rectangle(ex, {.width = W, .height = H, .components = 1});
         const box2 b = bounding_box(r.polygons);
         CHECK(b.lo.x == 0.0);
         CHECK(b.hi.x == W);
@@ -407,7 +407,7 @@ TEST_CASE("rectangles have the exact size and the requested topology", "[pattern
         const auto t = test::raster_topology(r.polygons, {0, 0}, {W, H}, 0.1);
         CHECK(t.components == 1);
         CHECK(t.holes == r.holes);
-        const auto r2 = pattern::synthesize_rectangle(ex, {.width = W, .height = H, .components = 1, .holes = r.holes, .seed = 3});
+        const auto r2 = vector_pattern::synthesize_rectangle(ex, {.width = W, .height = H, .components = 1, .holes = r.holes, .seed = 3});
         CHECK(test::raster_topology(r2.polygons, {0, 0}, {W, H}, 0.1).holes == r.holes);
     }
 }

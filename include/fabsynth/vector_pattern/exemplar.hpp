@@ -14,7 +14,7 @@
 ///
 /// Usage:
 ///   auto doc = fabsynth::io::read_svg("data/vector/greek_key.svg");     // the driver reads files
-///   fabsynth::pattern::exemplar ex = fabsynth::pattern::exemplar_from_svg(doc);
+///   fabsynth::vector_pattern::exemplar ex = fabsynth::vector_pattern::exemplar_from_svg(doc);
 ///   ex.components();  // 1
 ///   ex.holes();       // 6
 #include <cmath>
@@ -29,7 +29,7 @@
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/polygon.hpp"
 
-namespace fabsynth::pattern {
+namespace fabsynth::vector_pattern {
 
 /// A vector exemplar: non-overlapping simple polygons with holes.
 struct exemplar {
@@ -174,4 +174,4 @@ template <svg_like_document Doc>
     return make_exemplar(shapes, opt);
 }
 
-}  // namespace fabsynth::pattern
+}  // namespace fabsynth::vector_pattern

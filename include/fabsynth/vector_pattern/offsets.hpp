@@ -22,7 +22,7 @@
 ///
 /// Usage:
 ///   std::vector<double> tau{0.5, -1.0, 0.25}, w{2, 4, 2};       // 3 junctions, 4 pieces
-///   auto delta = fabsynth::pattern::solve_offsets(tau, w, false);  // delta[0] == delta[3] == 0
+///   auto delta = fabsynth::vector_pattern::solve_offsets(tau, w, false);  // delta[0] == delta[3] == 0
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
@@ -34,7 +34,7 @@
 
 #include "fabsynth/core/error.hpp"
 
-namespace fabsynth::pattern {
+namespace fabsynth::vector_pattern {
 
 /// Offsets delta_0..delta_N (mm) for N+1 pieces. Open curve: tau.size() == weight.size() == N
 /// junctions; closed curve: N+1 junctions (the last one closes the loop). Throws invalid_input for
@@ -116,4 +116,4 @@ namespace fabsynth::pattern {
     return delta;
 }
 
-}  // namespace fabsynth::pattern
+}  // namespace fabsynth::vector_pattern

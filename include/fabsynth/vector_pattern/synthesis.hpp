@@ -11,14 +11,14 @@
 ///     a request met only farther from L is refused with no_solution), drift bound H, optional
 ///     autocorrelation penalty beta (§3.7). Open curves start with P_0 and end with P_t; closed
 ///     curves search a cycle (the closing junction included) and set delta_0 = 0.
-///  3. Offsets delta by the weighted least squares of §4.1 (pattern/offsets.hpp).
-///  4. Gap stitching by LRI deformation of the piece boundaries (§4.2, pattern/stitching.hpp): every
+///  3. Offsets delta by the weighted least squares of §4.1 (vector_pattern/offsets.hpp).
+///  4. Gap stitching by LRI deformation of the piece boundaries (§4.2, vector_pattern/stitching.hpp): every
 ///     piece is first stretched along u by L / l (l = sum of the chosen widths), so the pattern spans
 ///     [0, L] exactly and the deformation only closes the portal mismatch of each junction. (The
 ///     paper lets the LRI deformation absorb L - l at the junctions; LRI keeps edge lengths, so a
 ///     compressed sequence buckled and its chains crossed their neighbours: 8 of the 42 requests of
 ///     the test sweep failed validation that way.)
-///  5. Final contours by a Clipper union (§4.3, pattern/contours.hpp), then validation: pieces do
+///  5. Final contours by a Clipper union (§4.3, vector_pattern/contours.hpp), then validation: pieces do
 ///     not overlap and no hole leaves its outline (merged area = sum of signed ring areas up to
 ///     Clipper rounding, 1e-8 relative), every ring simple, and the components/holes counted on the final polygons (glued at the seam for closed
 ///     curves) equal to the request, else solver_error (that would be a bug; a wrong pattern is never
@@ -26,7 +26,7 @@
 ///
 /// Band coordinates: u along the curve in [0, L]; v across, v = y - y_c where y_c is the vertical
 /// centre of the exemplar's bounding box (no flip: v grows where the exemplar's y grows, e.g. down
-/// on screen for SVG input). Orientation as pattern::exemplar: outer rings positive shoelace area,
+/// on screen for SVG input). Orientation as vector_pattern::exemplar: outer rings positive shoelace area,
 /// holes negative, in (u, v).
 ///
 /// Decisions where the paper is silent (documented here on purpose):
@@ -49,10 +49,10 @@
 ///    (0 refusals, every request met on the first pass); the retries remain as a safety net.
 ///
 /// Usage:
-///   auto ex = fabsynth::pattern::exemplar_from_svg(fabsynth::io::read_svg("data/vector/vine.svg"));
-///   auto r = fabsynth::pattern::synthesize_along(ex, {.length = 700, .components = 1, .holes = 12});
+///   auto ex = fabsynth::vector_pattern::exemplar_from_svg(fabsynth::io::read_svg("data/vector/vine.svg"));
+///   auto r = fabsynth::vector_pattern::synthesize_along(ex, {.length = 700, .components = 1, .holes = 12});
 ///   // r.polygons in (u, v), u in [0, 700]; r.sequence, r.offsets; r.dp_seconds
-///   auto rect = fabsynth::pattern::synthesize_rectangle(ex, {.width = 300, .height = 200, .components = 1});
+///   auto rect = fabsynth::vector_pattern::synthesize_rectangle(ex, {.width = 300, .height = 200, .components = 1});
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -72,15 +72,15 @@
 #include "fabsynth/dp/sequence_solver.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/polygon.hpp"
-#include "fabsynth/pattern/contours.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
-#include "fabsynth/pattern/offsets.hpp"
-#include "fabsynth/pattern/pieces.hpp"
-#include "fabsynth/pattern/reeb_slicing.hpp"
-#include "fabsynth/pattern/stitching.hpp"
+#include "fabsynth/vector_pattern/contours.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/offsets.hpp"
+#include "fabsynth/vector_pattern/pieces.hpp"
+#include "fabsynth/vector_pattern/reeb_slicing.hpp"
+#include "fabsynth/vector_pattern/stitching.hpp"
 #include "fabsynth/topology/descriptor.hpp"
 
-namespace fabsynth::pattern {
+namespace fabsynth::vector_pattern {
 
 /// How the exemplar is sliced (§5).
 enum class slicing_method {
@@ -582,4 +582,4 @@ struct rectangle_options {
     return second;
 }
 
-}  // namespace fabsynth::pattern
+}  // namespace fabsynth::vector_pattern

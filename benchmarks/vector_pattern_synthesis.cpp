@@ -1,4 +1,4 @@
-// Synthesis along a band (pattern/synthesis.hpp), the paper's Table 1 (Zhou et al. 2014, §6.1):
+// Synthesis along a band (vector_pattern/synthesis.hpp), the paper's Table 1 (Zhou et al. 2014, §6.1):
 // per case, the DP time and its peak memory, with the number of input pieces (default Reeb slicing)
 // and of result pieces. Target lengths are chosen from the mean piece width so that results hold
 // about 60-190 pieces, the range of Table 1. Constraints: one component for single-component
@@ -11,7 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include <fabsynth/io/svg.hpp>
-#include <fabsynth/pattern.hpp>
+#include <fabsynth/vector_pattern.hpp>
 
 #include <string>
 
@@ -31,20 +31,20 @@ const bench_case cases[] = {
 
 void BM_synthesize_along(benchmark::State& st) {
     const bench_case& c = cases[st.range(0)];
-    const auto ex = fabsynth::pattern::exemplar_from_svg(fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + c.file));
+    const auto ex = fabsynth::vector_pattern::exemplar_from_svg(fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + c.file));
     st.SetLabel(std::string(c.file) + (c.closed ? " closed" : " open"));
-    fabsynth::pattern::synthesis_options o;
+    fabsynth::vector_pattern::synthesis_options o;
     o.closed = c.closed;
     o.beta = 1.0;
     if (ex.components() == 1) o.components = 1;
     // Mean piece width of the default slicing fixes L.
-    const std::size_t n = fabsynth::pattern::detail::choose_cuts(ex, o).size() + 1;
+    const std::size_t n = fabsynth::vector_pattern::detail::choose_cuts(ex, o).size() + 1;
     o.length = c.result_pieces * ex.width() / static_cast<double>(n);
     double dp = 0, iterations = 0;
-    fabsynth::pattern::synthesis_result r;
+    fabsynth::vector_pattern::synthesis_result r;
     for (auto _ : st) {
         try {
-            r = fabsynth::pattern::synthesize_along(ex, o);
+            r = fabsynth::vector_pattern::synthesize_along(ex, o);
         } catch (const fabsynth::error& e) {
             st.SkipWithError(e.what());
             return;

@@ -1,4 +1,4 @@
-// Tests for pattern/pieces.hpp and pattern/reeb_slicing.hpp.
+// Tests for vector_pattern/pieces.hpp and vector_pattern/reeb_slicing.hpp.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -9,13 +9,13 @@
 
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/io/svg.hpp"
-#include "fabsynth/pattern/exemplar.hpp"
-#include "fabsynth/pattern/pieces.hpp"
-#include "fabsynth/pattern/reeb_slicing.hpp"
+#include "fabsynth/vector_pattern/exemplar.hpp"
+#include "fabsynth/vector_pattern/pieces.hpp"
+#include "fabsynth/vector_pattern/reeb_slicing.hpp"
 #include "fabsynth/topology/descriptor.hpp"
 
 using namespace fabsynth;
-using pattern::exemplar;
+using vector_pattern::exemplar;
 
 namespace {
 
@@ -23,7 +23,7 @@ constexpr const char* bundled_files[] = {"lace_scallop.svg", "greek_key.svg", "p
                                          "quatrefoil.svg",   "hearts.svg",    "zigzag.svg"};
 
 exemplar load(const char* f) {
-    return pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f));
+    return vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f));
 }
 
 // Cuts off the uniform positions by an irrational-ish fraction, so they miss grid-aligned edges.
@@ -129,7 +129,7 @@ TEST_CASE("slicing conserves the exemplar and finds the portals on every cut", "
         INFO(f);
         const exemplar ex = load(f);
         const auto cuts = offset_cuts(ex, 7);
-        const auto pieces = pattern::slice(ex, cuts);
+        const auto pieces = vector_pattern::slice(ex, cuts);
         REQUIRE(pieces.size() == 8);
         // Area conservation and union == exemplar (symmetric difference ~ 0).
         double sum = 0.0;
@@ -165,7 +165,7 @@ TEST_CASE("slicing conserves the exemplar and finds the portals on every cut", "
                 CHECK(glm::dot(l[k].tangent_bottom, r[k].tangent_bottom) == Approx(1.0).margin(1e-6));
                 CHECK(r[k].tangent_top.x >= 0.0);
             }
-            CHECK(pieces[i].heights(pattern::piece_side::right).size() == 2 * iv.size());
+            CHECK(pieces[i].heights(vector_pattern::piece_side::right).size() == 2 * iv.size());
         }
         // Descriptors: gluing all pieces gives back the exemplar's topology (components still
         // touching the band's two open ends count once each).
@@ -180,7 +180,7 @@ TEST_CASE("piece topology matches a raster flood-fill count", "[pattern][pieces]
     for (const char* f : {"greek_key.svg", "zigzag.svg", "hearts.svg", "pearls.svg"}) {
         INFO(f);
         const exemplar ex = load(f);
-        const auto pieces = pattern::slice(ex, offset_cuts(ex, 5));
+        const auto pieces = vector_pattern::slice(ex, offset_cuts(ex, 5));
         for (std::size_t i = 0; i < pieces.size(); ++i) {
             INFO("piece " << i);
             const auto [c, h] = raster_topology(pieces[i].polygons, 0.25);
@@ -204,7 +204,7 @@ TEST_CASE("piece topology matches a raster count on the large exemplars", "[patt
     for (const char* f : {"lace_scallop.svg", "quatrefoil.svg"}) {
         INFO(f);
         const exemplar ex = load(f);
-        const auto pieces = pattern::slice(ex, offset_cuts(ex, 3));
+        const auto pieces = vector_pattern::slice(ex, offset_cuts(ex, 3));
         for (std::size_t i = 0; i < pieces.size(); ++i) {
             INFO("piece " << i);
             const auto [c, h] = raster_topology(pieces[i].polygons, 0.05);
@@ -216,10 +216,10 @@ TEST_CASE("piece topology matches a raster count on the large exemplars", "[patt
 
 TEST_CASE("uniform slicing spaces t cuts W/(t+1) apart", "[pattern][pieces]") {
     const exemplar ex = load("zigzag.svg");
-    const auto c = pattern::uniform_cuts(ex, 5);
+    const auto c = vector_pattern::uniform_cuts(ex, 5);
     REQUIRE(c.size() == 5);
     for (std::size_t k = 0; k < c.size(); ++k) CHECK(c[k] == Approx(80.0 * static_cast<double>(k + 1)));
-    const auto pieces = pattern::slice(ex, c);
+    const auto pieces = vector_pattern::slice(ex, c);
     REQUIRE(pieces.size() == 6);
     for (const auto& p : pieces) {
         CHECK(p.width() == Approx(80.0));
@@ -229,19 +229,19 @@ TEST_CASE("uniform slicing spaces t cuts W/(t+1) apart", "[pattern][pieces]") {
         REQUIRE(p.right.size() == 1);
         CHECK(p.left[0].width() == Approx(20.0));
     }
-    CHECK(pattern::uniform_cuts(ex, 0).empty());
-    CHECK_THROWS_AS(pattern::slice(ex, std::vector<double>{100.0, 50.0}), invalid_input);
-    CHECK_THROWS_AS(pattern::slice(ex, std::vector<double>{0.0}), invalid_input);
-    CHECK_THROWS_AS(pattern::slice(ex, std::vector<double>{std::nan("")}), invalid_input);
+    CHECK(vector_pattern::uniform_cuts(ex, 0).empty());
+    CHECK_THROWS_AS(vector_pattern::slice(ex, std::vector<double>{100.0, 50.0}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::slice(ex, std::vector<double>{0.0}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::slice(ex, std::vector<double>{std::nan("")}), invalid_input);
 }
 
 namespace {
 exemplar rect_with_hole(double hx0, double hx1, double hy0, double hy1) {
-    pattern::exemplar_shape s;
+    vector_pattern::exemplar_shape s;
     s.subpaths = {ring2{{0, 0}, {100, 0}, {100, 20}, {0, 20}}, ring2{{hx0, hy0}, {hx1, hy0}, {hx1, hy1}, {hx0, hy1}}};
     s.closed = {true, true};
     s.rule = fill_rule::evenodd;
-    return pattern::make_exemplar({s});
+    return vector_pattern::make_exemplar({s});
 }
 }  // namespace
 
@@ -250,13 +250,13 @@ TEST_CASE("Reeb slicing of hand-made exemplars gives the hand-derived cuts", "[p
         // Interior events: 40 (the column splits around the hole) and 58 (it merges again); the
         // plate's ends at 0 and 100 are the band's cut ends, not events. Cut: (40 + 58) / 2 = 49.
         const exemplar ex = rect_with_hole(40, 58, 5, 15);
-        auto r = pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 1.0});
+        auto r = vector_pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 1.0});
         REQUIRE(r.events.size() == 2);
         CHECK(r.events[0] == Approx(40.0));
         CHECK(r.events[1] == Approx(58.0));
         REQUIRE(r.cuts.size() == 1);
         CHECK(r.cuts[0] == Approx(49.0));
-        const auto pieces = pattern::slice(ex, r.cuts);
+        const auto pieces = vector_pattern::slice(ex, r.cuts);
         REQUIRE(pieces.size() == 2);
         // The band's two ends are cut too (as in data/vector/), so the end pieces have a portal there.
         CHECK(pieces[0].left.size() == 1);
@@ -274,37 +274,37 @@ TEST_CASE("Reeb slicing of hand-made exemplars gives the hand-derived cuts", "[p
         CHECK(d.holes() == 1);
         // Paper default grouping 0.2 W = 20: 40 and 58 are 18 apart and form one group at 49, so a
         // single attacher and no cut.
-        r = pattern::reeb_slicing(ex, {.pixel = 0.5});
+        r = vector_pattern::reeb_slicing(ex, {.pixel = 0.5});
         REQUIRE(r.attachers.size() == 1);
         CHECK(r.attachers[0] == Approx(49.0));
         CHECK(r.cuts.empty());
     }
     SECTION("plate with two holes") {
         // Events 20, 30 | 60, 70 -> with grouping 15: attachers 25 and 65 -> cut 45.
-        pattern::exemplar_shape s;
+        vector_pattern::exemplar_shape s;
         s.subpaths = {ring2{{0, 0}, {100, 0}, {100, 20}, {0, 20}}, ring2{{20, 5}, {30, 5}, {30, 15}, {20, 15}},
                       ring2{{60, 5}, {70, 5}, {70, 15}, {60, 15}}};
         s.rule = fill_rule::evenodd;
-        const exemplar ex = pattern::make_exemplar({s});
-        const auto r = pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 15.0});
+        const exemplar ex = vector_pattern::make_exemplar({s});
+        const auto r = vector_pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 15.0});
         REQUIRE(r.attachers.size() == 2);
         CHECK(r.attachers[0] == Approx(25.0));
         CHECK(r.attachers[1] == Approx(65.0));
         REQUIRE(r.cuts.size() == 1);
         CHECK(r.cuts[0] == Approx(45.0));
-        const auto pieces = pattern::slice(ex, r.cuts);
+        const auto pieces = vector_pattern::slice(ex, r.cuts);
         CHECK(pieces[0].holes() == 1);
         CHECK(pieces[1].holes() == 1);
     }
     SECTION("two separate blocks") {
-        pattern::exemplar_shape a{{ring2{{0, 0}, {30, 0}, {30, 10}, {0, 10}}}, {true}, fill_rule::nonzero, ""};
-        pattern::exemplar_shape b{{ring2{{50, 0}, {100, 0}, {100, 10}, {50, 10}}}, {true}, fill_rule::nonzero, ""};
-        const exemplar ex = pattern::make_exemplar({a, b});
+        vector_pattern::exemplar_shape a{{ring2{{0, 0}, {30, 0}, {30, 10}, {0, 10}}}, {true}, fill_rule::nonzero, ""};
+        vector_pattern::exemplar_shape b{{ring2{{50, 0}, {100, 0}, {100, 10}, {50, 10}}}, {true}, fill_rule::nonzero, ""};
+        const exemplar ex = vector_pattern::make_exemplar({a, b});
         // Interior events: 30 (the first block ends), 50 (the second begins) -> cut 40.
-        const auto r = pattern::reeb_slicing(ex, {.pixel = 0.25, .group_distance = 2.0});
+        const auto r = vector_pattern::reeb_slicing(ex, {.pixel = 0.25, .group_distance = 2.0});
         REQUIRE(r.cuts.size() == 1);
         CHECK(r.cuts[0] == Approx(40.0));
-        const auto pieces = pattern::slice(ex, r.cuts);
+        const auto pieces = vector_pattern::slice(ex, r.cuts);
         CHECK(pieces[0].left.size() == 1);
         CHECK(pieces[0].right.size() == 0);
         CHECK(pieces[1].left.size() == 0);
@@ -315,24 +315,24 @@ TEST_CASE("Reeb slicing of hand-made exemplars gives the hand-derived cuts", "[p
 TEST_CASE("thin portals below the width threshold are filtered out", "[pattern][reeb]") {
     // A plate whose first slot leaves 1 mm bars, the second 4 mm bars: events 10, 40 | 60, 90 ->
     // cuts 25, 50, 75; the cut at 25 crosses two 1 mm bars, the one at 75 two 4 mm bars.
-    pattern::exemplar_shape s;
+    vector_pattern::exemplar_shape s;
     s.subpaths = {ring2{{0, 0}, {100, 0}, {100, 20}, {0, 20}}, ring2{{10, 1}, {40, 1}, {40, 19}, {10, 19}},
                   ring2{{60, 4}, {90, 4}, {90, 16}, {60, 16}}};
     s.rule = fill_rule::evenodd;
-    const exemplar ex = pattern::make_exemplar({s});
-    auto r = pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 1.0});
+    const exemplar ex = vector_pattern::make_exemplar({s});
+    auto r = vector_pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 1.0});
     REQUIRE(r.cuts.size() == 3);
-    r = pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 1.0, .min_portal_width = 2.0});
+    r = vector_pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 1.0, .min_portal_width = 2.0});
     REQUIRE(r.cuts.size() == 2);
     CHECK(r.cuts[0] == Approx(50.0));
     CHECK(r.cuts[1] == Approx(75.0));
-    r = pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 1.0, .min_portal_width = 5.0});
+    r = vector_pattern::reeb_slicing(ex, {.pixel = 0.5, .group_distance = 1.0, .min_portal_width = 5.0});
     REQUIRE(r.cuts.size() == 1);
     CHECK(r.cuts[0] == Approx(50.0));
     const std::vector<double> cuts{25.0, 50.0, 75.0};
-    CHECK(pattern::filter_thin_cuts(ex, cuts, 0.5).size() == 3);
-    CHECK(pattern::filter_thin_cuts(ex, cuts, 1.5).size() == 2);
-    CHECK_THROWS_AS(pattern::filter_thin_cuts(ex, cuts, -1.0), invalid_input);
+    CHECK(vector_pattern::filter_thin_cuts(ex, cuts, 0.5).size() == 3);
+    CHECK(vector_pattern::filter_thin_cuts(ex, cuts, 1.5).size() == 2);
+    CHECK_THROWS_AS(vector_pattern::filter_thin_cuts(ex, cuts, -1.0), invalid_input);
 }
 
 TEST_CASE("Reeb slicing of bundled exemplars yields no topologically trivial piece", "[pattern][reeb]") {
@@ -342,12 +342,12 @@ TEST_CASE("Reeb slicing of bundled exemplars yields no topologically trivial pie
     for (const auto& [f, period] : cases) {
         INFO(f);
         const exemplar ex = load(f);
-        const auto r = pattern::reeb_slicing(ex, {.group_distance = 0.1 * period, .min_portal_width = 0.5});
+        const auto r = vector_pattern::reeb_slicing(ex, {.group_distance = 0.1 * period, .min_portal_width = 0.5});
         REQUIRE(r.cuts.size() >= 2);
         CHECK(std::is_sorted(r.cuts.begin(), r.cuts.end()));
-        const auto pieces = pattern::slice(ex, r.cuts);
+        const auto pieces = vector_pattern::slice(ex, r.cuts);
         for (double c : r.cuts)
-            for (const auto& [t, b] : pattern::cross_section(ex, c)) CHECK(b - t >= 0.5);
+            for (const auto& [t, b] : vector_pattern::cross_section(ex, c)) CHECK(b - t >= 0.5);
         double sum = 0.0;
         for (const auto& p : pieces) sum += area(p.polygons);
         CHECK(std::abs(sum - ex.area()) <= 1e-9 * ex.area());
@@ -366,6 +366,6 @@ TEST_CASE("Reeb slicing of bundled exemplars yields no topologically trivial pie
         }
     }
     const exemplar ex = load("zigzag.svg");
-    CHECK_THROWS_AS(pattern::reeb_slicing(ex, {.pixel = 1e-6}), invalid_input);  // raster too large
-    CHECK_THROWS_AS(pattern::reeb_slicing(ex, {.pixel = std::nan("")}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::reeb_slicing(ex, {.pixel = 1e-6}), invalid_input);  // raster too large
+    CHECK_THROWS_AS(vector_pattern::reeb_slicing(ex, {.pixel = std::nan("")}), invalid_input);
 }

@@ -1,11 +1,11 @@
-// Vector-pattern exemplars and slicing (pattern/*.hpp): time to build an exemplar from a parsed SVG
+// Vector-pattern exemplars and slicing (vector_pattern/*.hpp): time to build an exemplar from a parsed SVG
 // (validation + Clipper union), to slice it into pieces with portals (uniform, 8 pieces), and to
 // run the Reeb sweep (default raster max(W, H)/1024). Counters: vertices, pieces, portals, cuts.
 #include <benchmark/benchmark.h>
 
 #include <fabsynth/geometry/clip.hpp>
 #include <fabsynth/io/svg.hpp>
-#include <fabsynth/pattern.hpp>
+#include <fabsynth/vector_pattern.hpp>
 
 #include <string>
 
@@ -18,7 +18,7 @@ fabsynth::io::svg_document doc_of(int i) {
     return fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + files[i]);
 }
 
-double vertices(const fabsynth::pattern::exemplar& ex) {
+double vertices(const fabsynth::vector_pattern::exemplar& ex) {
     double v = 0;
     for (const auto& p : ex.polygons) {
         v += static_cast<double>(p.outer.size());
@@ -30,17 +30,17 @@ double vertices(const fabsynth::pattern::exemplar& ex) {
 void BM_make_exemplar(benchmark::State& st) {
     const auto doc = doc_of(static_cast<int>(st.range(0)));
     st.SetLabel(files[st.range(0)]);
-    fabsynth::pattern::exemplar ex;
-    for (auto _ : st) benchmark::DoNotOptimize(ex = fabsynth::pattern::exemplar_from_svg(doc));
+    fabsynth::vector_pattern::exemplar ex;
+    for (auto _ : st) benchmark::DoNotOptimize(ex = fabsynth::vector_pattern::exemplar_from_svg(doc));
     st.counters["vertices"] = vertices(ex);
 }
 
 void BM_slice_uniform(benchmark::State& st) {
-    const auto ex = fabsynth::pattern::exemplar_from_svg(doc_of(static_cast<int>(st.range(0))));
+    const auto ex = fabsynth::vector_pattern::exemplar_from_svg(doc_of(static_cast<int>(st.range(0))));
     st.SetLabel(files[st.range(0)]);
-    const auto cuts = fabsynth::pattern::uniform_cuts(ex, 7);
-    std::vector<fabsynth::pattern::piece> pieces;
-    for (auto _ : st) benchmark::DoNotOptimize(pieces = fabsynth::pattern::slice(ex, cuts));
+    const auto cuts = fabsynth::vector_pattern::uniform_cuts(ex, 7);
+    std::vector<fabsynth::vector_pattern::piece> pieces;
+    for (auto _ : st) benchmark::DoNotOptimize(pieces = fabsynth::vector_pattern::slice(ex, cuts));
     double portals = 0;
     for (const auto& p : pieces) portals += static_cast<double>(p.left.size() + p.right.size());
     st.counters["vertices"] = vertices(ex);
@@ -49,10 +49,10 @@ void BM_slice_uniform(benchmark::State& st) {
 }
 
 void BM_reeb(benchmark::State& st) {
-    const auto ex = fabsynth::pattern::exemplar_from_svg(doc_of(static_cast<int>(st.range(0))));
+    const auto ex = fabsynth::vector_pattern::exemplar_from_svg(doc_of(static_cast<int>(st.range(0))));
     st.SetLabel(files[st.range(0)]);
-    fabsynth::pattern::reeb_result r;
-    for (auto _ : st) benchmark::DoNotOptimize(r = fabsynth::pattern::reeb_slicing(ex, {.group_distance = 2.0}));
+    fabsynth::vector_pattern::reeb_result r;
+    for (auto _ : st) benchmark::DoNotOptimize(r = fabsynth::vector_pattern::reeb_slicing(ex, {.group_distance = 2.0}));
     st.counters["events"] = static_cast<double>(r.events.size());
     st.counters["cuts"] = static_cast<double>(r.cuts.size());
 }
