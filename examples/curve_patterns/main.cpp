@@ -18,6 +18,7 @@
 #include <fabsynth/geometry/curve.hpp>
 #include <fabsynth/geometry/extrude.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
+#include <fabsynth/geometry/raster.hpp>
 #include <fabsynth/geometry/triangulate.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
@@ -64,27 +65,11 @@ image8 preview(const std::vector<polygon_with_holes>& polys, const box2& view, i
     const int w = std::max(1, static_cast<int>(std::ceil(size.x / px))), h = std::max(1, static_cast<int>(std::ceil(size.y / px)));
     constexpr int ss = 4;
     std::vector<int> cover(static_cast<std::size_t>(w) * h, 0);
-    std::vector<double> xs;
-    for (int row = 0; row < h * ss; ++row) {
-        const double y = view.lo.y + (row + 0.5) * px / ss;
-        xs.clear();
-        for (const auto& p : polys)
-            for (const ring2* r : [&] {
-                     std::vector<const ring2*> v{&p.outer};
-                     for (const ring2& hole : p.holes) v.push_back(&hole);
-                     return v;
-                 }())
-                for (std::size_t i = 0; i < r->size(); ++i) {
-                    const vec2 a = (*r)[i], b = (*r)[(i + 1) % r->size()];
-                    if ((a.y <= y) != (b.y <= y)) xs.push_back(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
-                }
-        std::sort(xs.begin(), xs.end());
-        for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
-            const long c0 = std::max(0L, static_cast<long>(std::ceil((xs[k] - view.lo.x) / px * ss - 0.5)));
-            const long c1 = std::min(static_cast<long>(w) * ss - 1, static_cast<long>(std::ceil((xs[k + 1] - view.lo.x) / px * ss - 0.5)) - 1);
-            for (long c = c0; c <= c1; ++c) ++cover[static_cast<std::size_t>(row / ss) * w + static_cast<std::size_t>(c / ss)];
-        }
-    }
+    polygon_rasterizer raster;
+    for (const auto& p : polys) raster.add_polygon(p);
+    raster.for_each_run({view.lo, px / ss, w * ss, h * ss}, [&](int row, int c0, int c1) {
+        for (int c = c0; c < c1; ++c) ++cover[static_cast<std::size_t>(row / ss) * w + static_cast<std::size_t>(c / ss)];
+    });
     image8 img(w, h, 1, 255);
     for (std::size_t i = 0; i < cover.size(); ++i) img.data[i] = static_cast<std::uint8_t>(255 - (255 * cover[i]) / (ss * ss));
     return img;

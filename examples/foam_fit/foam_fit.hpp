@@ -173,7 +173,7 @@ inline void validate(const config& c) {
                             for (int i = 0; i < s; ++i) {
                                 const vec3 p = q - vec3(0.5 * h) + h * (vec3(i, j, k) + 0.5) / double(s);
                                 for (const auto& e : near)
-                                    if (foam::segment_dist2(p, e.a, e.b) <= t2) {
+                                    if (segment_distance2(p, e.a, e.b) <= t2) {
                                         ++count;
                                         break;
                                     }

@@ -105,11 +105,18 @@ public:
             for (int y = lo.y; y <= hi.y; ++y)
                 for (int x = lo.x; x <= hi.x; ++x)
                     for (std::size_t s : buckets_[index({x, y, z})])
-                        best = std::min(best, std::sqrt(fabsynth::foam::segment_dist2(q, segs_[s].a, segs_[s].b)));
+                        best = std::min(best, point_segment_distance(q, segs_[s].a, segs_[s].b));
         return best <= r ? best : std::numeric_limits<double>::infinity();
     }
 
 private:
+    // The oracle's own point-segment distance (shares no code with the evaluator).
+    static double point_segment_distance(const vec3& q, const vec3& a, const vec3& b) {
+        const vec3 d = b - a;
+        double t = glm::dot(q - a, d) / std::max(glm::dot(d, d), 1e-300);
+        t = t < 0 ? 0 : (t > 1 ? 1 : t);
+        return glm::distance(q, a + t * d);
+    }
     void edge_for(std::size_t i, std::size_t j, std::size_t k, const std::vector<std::size_t>& N) {
         const auto& S = pc_.pts;
         const vec3 si = S[i], sj = S[j], sk = S[k];

@@ -81,6 +81,7 @@
 #include "fabsynth/foam/detail/polytope.hpp"
 #include "fabsynth/foam/fields.hpp"
 #include "fabsynth/foam/seeds.hpp"
+#include "fabsynth/geometry/segment.hpp"
 
 namespace fabsynth::foam {
 
@@ -103,15 +104,6 @@ struct slice_options {
 struct edge_segment {
     vec3 a, b;
 };
-
-/// Squared distance from p to segment [a, b].
-[[nodiscard]] inline double segment_dist2(const vec3& p, const vec3& a, const vec3& b) noexcept {
-    const vec3 ab = b - a, ap = p - a;
-    const double l2 = glm::dot(ab, ab);
-    const double t = l2 > 0 ? std::clamp(glm::dot(ap, ab) / l2, 0.0, 1.0) : 0.0;
-    const vec3 d = ap - t * ab;
-    return glm::dot(d, d);
-}
 
 namespace detail {
 /// Density as seen by the seed process: rho(x) capped by the full-block bound 1/(2 tau(x))^3.
@@ -217,7 +209,7 @@ public:
         double best = r * r;
         bool found = false;
         for_each_edge(box3(q - vec3(r), q + vec3(r)), ws, [&](const vec3& a, const vec3& b) {
-            const double d2 = segment_dist2(q, a, b);
+            const double d2 = segment_distance2(q, a, b);
             if (d2 <= best) best = d2, found = true;
             return true;
         });
@@ -231,7 +223,7 @@ public:
         bool solid = false;
         const double t2 = t * t;
         for_each_edge(box3(q - vec3(t), q + vec3(t)), ws, [&](const vec3& a, const vec3& b) {
-            if (segment_dist2(q, a, b) <= t2) solid = true;
+            if (segment_distance2(q, a, b) <= t2) solid = true;
             return !solid;
         });
         return solid;
@@ -257,7 +249,7 @@ public:
                     const vec3 p = q - vec3(half) + voxel * (vec3(i, j, k) + 0.5) / double(s);
                     const double t = radius(p), t2 = t * t;
                     for (const edge_segment& e : ws.edges)
-                        if (segment_dist2(p, e.a, e.b) <= t2) {
+                        if (segment_distance2(p, e.a, e.b) <= t2) {
                             ++count;
                             break;
                         }

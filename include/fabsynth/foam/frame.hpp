@@ -10,7 +10,7 @@
 /// connected solid (tests/foam/frame.cpp checks this on a voxelized block).
 ///
 /// Inside/outside: contains() uses the pseudonormal sign of geometry/distance.hpp; slice() uses an
-/// exact even-odd scanline of the mesh cross-section (vertices on the plane count as above it),
+/// exact even-odd scanline of the mesh cross-section (geometry/raster.hpp; vertices on the plane count as above it),
 /// which agrees except within rounding (~1e-12 mm) of the surface. A non-watertight mesh throws
 /// invalid_input at construction. With supersampling, the object boundary and the frame are
 /// decided at pixel centres and the foam inside is graded.
@@ -31,6 +31,7 @@
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/foam/evaluator.hpp"
 #include "fabsynth/geometry/distance.hpp"
+#include "fabsynth/geometry/raster.hpp"
 
 namespace fabsynth::foam {
 
@@ -90,11 +91,8 @@ public:
 
     void slice_into(image8& img, double z, const vec2& origin, double pixel, slice_options so = {}) const {
         foam_.slice_into(img, z, origin, pixel, so);
-        // cross-section of the mesh: segments where faces straddle the plane
-        struct seg {
-            vec2 a, b;
-        };
-        std::vector<seg> segs;
+        // cross-section of the mesh: segments where faces straddle the plane, filled even-odd
+        polygon_rasterizer section;
         const auto& m = surface_.mesh();
         for (const auto& t : m.faces) {
             vec2 pts[2];
@@ -107,27 +105,26 @@ public:
                     pts[n++] = vec2(p.x + s * (q.x - p.x), p.y + s * (q.y - p.y));
                 }
             }
-            if (n == 2) segs.push_back({pts[0], pts[1]});
+            if (n == 2) section.add_edge(pts[0], pts[1]);
         }
+        const raster_grid grid{origin, pixel, img.width, img.height};
         const double th = opt_.thickness;
         parallel_for(0, static_cast<std::size_t>(img.height), [&](std::size_t row) {
             const int j = static_cast<int>(row);
-            const double y = origin.y + (j + 0.5) * pixel;
-            std::vector<double> xs;
-            for (const seg& s : segs)
-                if ((s.a.y > y) != (s.b.y > y)) xs.push_back(s.a.x + (y - s.a.y) * (s.b.x - s.a.x) / (s.b.y - s.a.y));
-            std::sort(xs.begin(), xs.end());
-            std::size_t k = 0;
-            for (int i = 0; i < img.width; ++i) {
-                const double x = origin.x + (i + 0.5) * pixel;
-                while (k < xs.size() && xs[k] < x) ++k;
-                const vec3 q(x, y, z);
-                if ((k % 2) == 0 || !kept_by_cuts(q)) {
-                    img.at(i, j) = 0;
-                } else if (th > 0 && surface_.closest(q, th).found()) {
-                    img.at(i, j) = 255;
+            const double y = grid.row_y(j);
+            std::vector<polygon_rasterizer::crossing> scratch;
+            int outside_from = 0;  // columns before the next inside run are outside the object
+            auto inside_run = [&](int i0, int i1) {
+                for (int i = outside_from; i < i0; ++i) img.at(i, j) = 0;
+                for (int i = i0; i < i1; ++i) {
+                    const vec3 q(origin.x + (i + 0.5) * pixel, y, z);
+                    if (!kept_by_cuts(q)) img.at(i, j) = 0;
+                    else if (th > 0 && surface_.closest(q, th).found()) img.at(i, j) = 255;
                 }
-            }
+                outside_from = i1;
+            };
+            section.row_runs(grid, j, scratch, inside_run);
+            for (int i = outside_from; i < img.width; ++i) img.at(i, j) = 0;
         }, {.grain = 4});
     }
 

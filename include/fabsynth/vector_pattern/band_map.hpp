@@ -28,6 +28,7 @@
 #include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/geometry/extrude.hpp"
 #include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/segment.hpp"
 
 namespace fabsynth::vector_pattern {
 
@@ -38,13 +39,6 @@ struct band_map_options {
 };
 
 namespace detail {
-inline double distance_to_segment(vec2 p, vec2 a, vec2 b) {
-    const vec2 d = b - a;
-    const double l2 = glm::dot(d, d);
-    const double t = l2 > 0.0 ? std::clamp(glm::dot(p - a, d) / l2, 0.0, 1.0) : 0.0;
-    return glm::length(p - (a + t * d));
-}
-
 // Appends the mapped points of (u, v) edge p0 -> p1 for parameters in (t0, t1], halving while
 // the mapped midpoint deviates from the chord by more than the tolerance.
 inline void densify(const planar_curve& c, vec2 p0, vec2 p1, double t0, double t1, vec2 q0, vec2 q1, double tol,
@@ -52,7 +46,7 @@ inline void densify(const planar_curve& c, vec2 p0, vec2 p1, double t0, double t
     const double tm = 0.5 * (t0 + t1);
     const vec2 pm = p0 + tm * (p1 - p0);
     const vec2 qm = c.band_point(pm.x, pm.y);
-    if (depth > 0 && distance_to_segment(qm, q0, q1) > tol) {
+    if (depth > 0 && segment_distance(qm, q0, q1) > tol) {
         densify(c, p0, p1, t0, tm, q0, qm, tol, depth - 1, out);
         densify(c, p0, p1, tm, t1, qm, q1, tol, depth - 1, out);
     } else {

@@ -32,6 +32,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
+#include "fabsynth/geometry/raster.hpp"
 #include "fabsynth/vector_pattern/exemplar.hpp"
 #include "fabsynth/vector_pattern/pieces.hpp"
 
@@ -59,29 +60,11 @@ namespace detail {
 /// Solid runs [row_begin, row_end) of every column of the rasterized exemplar.
 inline std::vector<std::vector<std::pair<int, int>>> column_runs(const exemplar& ex, double pixel, int nx, int ny) {
     std::vector<std::uint8_t> solid(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), 0);
-    std::vector<double> xs;
-    for (int j = 0; j < ny; ++j) {
-        const double y = ex.bounds.lo.y + (j + 0.5) * pixel;
-        xs.clear();
-        auto scan = [&](const ring2& r) {
-            for (std::size_t i = 0; i < r.size(); ++i) {
-                const vec2 a = r[i], b = r[(i + 1) % r.size()];
-                if ((a.y <= y) != (b.y <= y)) xs.push_back(a.x + (b.x - a.x) * ((y - a.y) / (b.y - a.y)));
-            }
-        };
-        for (const auto& p : ex.polygons) {
-            scan(p.outer);
-            for (const auto& h : p.holes) scan(h);
-        }
-        std::sort(xs.begin(), xs.end());
-        for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
-            // pixel i is solid iff its centre lo.x + (i + 0.5) pixel lies in [xs[k], xs[k+1])
-            const double f0 = (xs[k] - ex.bounds.lo.x) / pixel - 0.5, f1 = (xs[k + 1] - ex.bounds.lo.x) / pixel - 0.5;
-            const int i0 = std::max(0, static_cast<int>(std::ceil(f0)));
-            const int i1 = std::min(nx, static_cast<int>(std::ceil(f1)));
-            for (int i = i0; i < i1; ++i) solid[static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i)] = 1;
-        }
-    }
+    polygon_rasterizer raster;
+    for (const auto& p : ex.polygons) raster.add_polygon(p);
+    raster.for_each_run({ex.bounds.lo, pixel, nx, ny}, [&](int j, int i0, int i1) {
+        std::fill_n(solid.begin() + static_cast<std::ptrdiff_t>(j) * nx + i0, i1 - i0, std::uint8_t{1});
+    });
     std::vector<std::vector<std::pair<int, int>>> runs(static_cast<std::size_t>(nx));
     for (int i = 0; i < nx; ++i)
         for (int j = 0; j < ny;) {
