@@ -18,8 +18,8 @@
 ///    deeper levels Galerkin products of 27-point stencils; Chebyshev-Jacobi smoothing; sparse
 ///    LDL^T on the coarsest grid. Non-periodic grids are padded with void voxels (invisible to the
 ///    caller) so that they coarsen by 2 several times. Memory: about 0.7 KB per node in total
-///    (vectors, plus 1.9 KB stencils per level-1 node, i.e. per 8 fine nodes); measured peak
-///    187 MB at 64^3 voxels (0.8 M DOFs) and 592 MB at 96^3 (2.7 M DOFs).
+///    (vectors, plus 1.9 KB stencils per level-1 node, i.e. per 8 fine nodes); measured peaks are
+///    in benchmarks/README.md.
 ///  - jacobi: matrix-free CG with diagonal preconditioning (small problems, or as a baseline).
 ///  - direct: assembled sparse LDL^T (Eigen); refused above max_direct_dofs.
 ///
