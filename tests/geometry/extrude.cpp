@@ -186,3 +186,23 @@ TEST_CASE("extrude_along_curve: a bundled exemplar along an open arc", "[geometr
     // the centre: radius R - v, area element (1 - v / R)
     CHECK(signed_volume(m) / 0.8 == Approx(expected).epsilon(2e-3));
 }
+
+// GCC 12.2's SLP vectorizer rounds only z in `for (a) v[a] = double(float(v[a]))` over glm
+// vectors; CMakeLists.txt no longer imposes -fno-tree-slp-vectorize, so the library's float
+// rounding is checked per component here, with an oracle written component by component.
+TEST_CASE("weld_to_float rounds every component to single precision", "[extrude][float]") {
+    triangle_mesh m;
+    m.vertices = {{0.1, 0.2, 0.3}, {1.1, 2.2, 3.3}, {-7.7, 1e-3, 12345.678}, {0.1 + 1e-12, 0.2, 0.3}};
+    m.faces = {{0, 1, 2}, {3, 1, 2}};
+    const std::vector<vec3> before = m.vertices;
+    weld_to_float(m);
+    REQUIRE(m.vertices.size() == 3);  // vertex 3 equals vertex 0 in float
+    for (std::size_t i = 0; i < 3; ++i) {
+        const float x = static_cast<float>(before[i].x), y = static_cast<float>(before[i].y), z = static_cast<float>(before[i].z);
+        CHECK(m.vertices[i].x == static_cast<double>(x));
+        CHECK(m.vertices[i].y == static_cast<double>(y));
+        CHECK(m.vertices[i].z == static_cast<double>(z));
+    }
+    CHECK(m.faces.size() == 2);
+    CHECK(m.faces[1][0] == 0);
+}
