@@ -9,6 +9,7 @@ packages=(
   libstb-dev libtinyobjloader-dev libcli11-dev
   libpolyclipping-dev libsuitesparse-dev
   catch2 libbenchmark-dev
+  nlohmann-json3-dev               # the tools' --json summaries (examples/common/tool.hpp)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,181 @@
+#pragma once
+// The convention every fabsynth tool follows (docs/tools.md): exit codes, the catch-all that ends
+// every failure in a `fabsynth:` message, --version, --quiet, --json, defaults in --help, and
+// progress that is a live percentage on a terminal and plain lines in a log.
+//
+//   int main(int argc, char** argv) {
+//       CLI::App app{"..."};
+//       fabsynth::tool::common c(app);                 // --version, --quiet, --json, defaults shown
+//       app.add_option("--size", size, "...");
+//       return fabsynth::tool::run(app, c, argc, argv, [&] {
+//           auto progress = c.progress();                // a fabsynth::progress_callback
+//           ...
+//           c.summary({{"slices", n}});                   // printed on stdout with --json
+//       });
+//   }
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <new>
+#include <string>
+#include <string_view>
+
+#include <fabsynth/core/error.hpp>
+#include <fabsynth/version.hpp>
+
+namespace fabsynth::tool {
+
+/// Exit codes of every tool.
+enum exit_code : int {
+    exit_ok = 0,
+    exit_internal = 1,      ///< an unexpected internal error (a bug; the message says what)
+    exit_bad_input = 2,     ///< bad arguments or a bad input file
+    exit_no_solution = 3,   ///< a valid request that cannot be met (fabsynth::no_solution)
+    exit_solver = 4,        ///< solver or numerical failure, out of memory, cancelled
+    exit_io = 5,            ///< reading or writing a file failed
+};
+
+/// What a failed run reports: its exit code and its `fabsynth:` message.
+struct failure {
+    int code;
+    std::string message;
+};
+
+/// Classifies the exception in flight (call inside a catch block).
+inline failure current_failure(std::string_view tool) {
+    const std::string prefix = "fabsynth: " + std::string(tool) + ": ";
+    try {
+        throw;
+    } catch (const invalid_input& e) {
+        return {exit_bad_input, e.what()};
+    } catch (const no_solution& e) {
+        return {exit_no_solution, e.what()};
+    } catch (const io_error& e) {
+        return {exit_io, e.what()};
+    } catch (const error& e) {  // solver_error, cancelled
+        return {exit_solver, e.what()};
+    } catch (const std::filesystem::filesystem_error& e) {
+        return {exit_io, prefix + e.what()};
+    } catch (const std::bad_alloc&) {
+        return {exit_solver, prefix + "out of memory"};
+    } catch (const std::exception& e) {
+        return {exit_internal, prefix + "internal error: " + e.what()};
+    } catch (...) {
+        return {exit_internal, prefix + "internal error: unknown exception"};
+    }
+}
+
+/// Progress on stderr: a live percentage when stderr is a terminal, otherwise one plain line per
+/// stage and per 10%; nothing with --quiet. Satisfies fabsynth::progress_callback.
+class progress_printer {
+public:
+    explicit progress_printer(bool quiet) : quiet_(quiet), live_(!quiet && ::isatty(STDERR_FILENO) == 1) {}
+    progress_printer(const progress_printer&) = delete;
+    progress_printer& operator=(const progress_printer&) = delete;
+    ~progress_printer() {
+        if (live_ && shown_) std::fputs("\n", stderr);
+    }
+
+    void operator()(double fraction, std::string_view stage) {
+        if (quiet_ || !std::isfinite(fraction)) return;
+        const int percent = static_cast<int>(std::floor(std::clamp(fraction, 0.0, 1.0) * 100.0));
+        const bool new_stage = stage != stage_;
+        if (live_) {
+            if (!new_stage && percent == percent_) return;
+            std::fprintf(stderr, "\r%s%.*s %3d%%", new_stage && shown_ ? "\n" : "", static_cast<int>(stage.size()), stage.data(), percent);
+            std::fflush(stderr);
+        } else {
+            if (!new_stage && percent / 10 == percent_ / 10) return;
+            std::fprintf(stderr, "%.*s %d%%\n", static_cast<int>(stage.size()), stage.data(), percent);
+        }
+        shown_ = true;
+        stage_ = stage;
+        percent_ = percent;
+    }
+
+private:
+    bool quiet_, live_;
+    bool shown_ = false;
+    std::string stage_;
+    int percent_ = -1;
+};
+
+/// The options every tool has, and its machine-readable summary.
+class common {
+public:
+    explicit common(CLI::App& app) : app_(app) {
+        app.set_version_flag("--version", std::string("fabsynth ") + FABSYNTH_VERSION_STRING);
+        app.option_defaults()->always_capture_default();
+        app.add_flag("--quiet,-q", quiet_, "no progress on stderr");
+        app.add_flag("--json", json_, "print a JSON summary of the run on stdout (human-readable lines go to stderr)");
+    }
+    [[nodiscard]] bool quiet() const noexcept { return quiet_; }
+    [[nodiscard]] bool json() const noexcept { return json_; }
+
+    /// A fresh progress printer honouring --quiet.
+    [[nodiscard]] progress_printer progress() const { return progress_printer(quiet_); }
+
+    /// Human-readable line: stdout normally, stderr with --json (stdout then holds JSON only).
+    void say(const std::string& line) const { (json_ ? std::cerr : std::cout) << line << "\n"; }
+
+    /// Adds fields to the JSON summary (printed by run() after success, with "tool" and "version").
+    void summary(const nlohmann::json& fields) { summary_.update(fields); }
+
+    /// Called by run(): with --json, prints the summary (or the failure) on stdout.
+    void finish(const failure* f = nullptr) const {
+        if (!json_) return;
+        nlohmann::json out = {{"tool", app_.get_name()}, {"version", FABSYNTH_VERSION_STRING}};
+        if (f) {
+            out["status"] = "error";
+            out["exit_code"] = f->code;
+            out["message"] = f->message;
+        } else {
+            out["status"] = "ok";
+            out.update(summary_);
+        }
+        std::cout << out.dump(2) << "\n";  // non-finite numbers print as null, so the output stays JSON
+    }
+
+private:
+    CLI::App& app_;
+    bool quiet_ = false, json_ = false;
+    nlohmann::json summary_ = nlohmann::json::object();
+};
+
+/// Parses the arguments and runs body(): every failure ends in a `fabsynth:` message on stderr and
+/// the exit code of the convention; --help and --version exit 0.
+template <class Body>
+int run(CLI::App& app, common& c, int argc, char** argv, Body&& body) {
+    if (app.get_name().empty() && argc > 0) app.name(std::filesystem::path(argv[0]).filename().string());
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "fabsynth: " << app.get_name() << ": " << e.what() << " (see --help)\n";
+        return exit_bad_input;
+    }
+    try {
+        body();
+        c.finish();
+        return exit_ok;
+    } catch (...) {
+        const failure f = current_failure(app.get_name());
+        std::cerr << f.message << "\n";
+        c.finish(&f);
+        return f.code;
+    }
+}
+
+}  // namespace fabsynth::tool
