@@ -126,12 +126,12 @@ public:
     void say(const std::string& line) const { (json_ ? std::cerr : std::cout) << line << "\n"; }
 
     /// Adds fields to the JSON summary (printed by run() after success, with "tool" and "version").
-    void summary(const nlohmann::json& fields) { summary_.update(fields); }
+    void summary(const nlohmann::ordered_json& fields) { summary_.update(fields); }
 
     /// Called by run(): with --json, prints the summary (or the failure) on stdout.
     void finish(const failure* f = nullptr) const {
         if (!json_) return;
-        nlohmann::json out = {{"tool", app_.get_name()}, {"version", FABSYNTH_VERSION_STRING}};
+        nlohmann::ordered_json out = {{"tool", app_.get_name()}, {"version", FABSYNTH_VERSION_STRING}};
         if (f) {
             out["status"] = "error";
             out["exit_code"] = f->code;
@@ -146,7 +146,7 @@ public:
 private:
     CLI::App& app_;
     bool quiet_ = false, json_ = false;
-    nlohmann::json summary_ = nlohmann::json::object();
+    nlohmann::ordered_json summary_ = nlohmann::ordered_json::object();
 };
 
 /// Parses the arguments and runs body(): every failure ends in a `fabsynth:` message on stderr and

@@ -1,19 +1,21 @@
 // fem_solve DECK.inp -o OUTDIR: linear static analysis of an Abaqus/CalculiX .inp deck.
 // Writes OUTDIR/displacements.csv (node,ux,uy,uz), OUTDIR/stresses.csv (element centroid stress,
 // Abaqus component order sxx,syy,szz,sxy,syz,szx, then von_mises) and OUTDIR/result.vtk, and
-// prints a one-line summary. Any failure: message on stderr, non-zero exit.
-#include <CLI/CLI.hpp>
+// prints a one-line summary (--json: a JSON summary). Conventions (exit codes, --quiet, --json,
+// --version): docs/tools.md.
 
 #include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 #include "fabsynth/fem.hpp"
 #include "fabsynth/io/detail/atomic_file.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
 #include "fabsynth/io/vtk.hpp"
+#include "tool.hpp"
 
 namespace fem = fabsynth::fem;
 
@@ -34,17 +36,20 @@ fem::static_result run(const fem::inp_deck& d) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"Linear static FEM solve of an Abaqus/CalculiX .inp deck (C3D8, C3D6, S3)"};
+    CLI::App app{"Linear static FEM solve of an Abaqus/CalculiX .inp deck (C3D8, C3D6, S3)", "fem_solve"};
+    fabsynth::tool::common common(app);
     std::string deck_path, out_dir, solver = "ldlt";
     app.add_option("deck", deck_path, "input deck (.inp)")->required();
     app.add_option("-o,--output", out_dir, "output directory")->required();
     app.add_option("--solver", solver, "ldlt | cg | cg-jacobi | cholmod")->check(CLI::IsMember({"ldlt", "cg", "cg-jacobi", "cholmod"}));
-    CLI11_PARSE(app, argc, argv);
 
-    try {
+    return fabsynth::tool::run(app, common, argc, argv, [&] {
+        auto progress = common.progress();
+        progress(0.0, "read deck");
         const auto t0 = std::chrono::steady_clock::now();
         const fem::inp_deck d = fem::parse_inp(fabsynth::io::detail::read_file(deck_path), deck_path);
         fem::static_result r;
+        progress(0.1, "solve");
         if (solver == "cg") r = run<fem::cg_ichol_solver>(d);
         else if (solver == "cg-jacobi") r = run<fem::cg_jacobi_solver>(d);
         else if (solver == "cholmod") {
@@ -57,7 +62,9 @@ int main(int argc, char** argv) {
             r = run<fem::ldlt_solver>(d);
         }
         const fem::mesh& m = d.model;
+        progress(0.7, "stresses");
         const auto stress = fem::centroid_stresses(m, r);
+        progress(0.8, "write");
 
         std::filesystem::create_directories(out_dir);
         const std::filesystem::path out(out_dir);
@@ -107,16 +114,23 @@ int main(int argc, char** argv) {
         fabsynth::io::write_vtk_unstructured(out / "result.vtk", m.nodes, cells, pf,
                                              {{"stress_xx_yy_zz_xy_yz_zx", 6, s_field}, {"von_mises", 1, vm_field}, {"element_id", 1, ids}});
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::cout << "fem_solve: " << m.nodes.size() << " nodes, " << m.elements.size() << " elements, " << r.dofs.total
-                  << " dofs; max |u| = " << umax << " mm at node " << m.node_label(umax_node) << "; max von Mises = " << vm_max
-                  << " MPa in element " << m.element_label(vm_el) << "; solver " << solver << ", residual "
-                  << r.relative_residual << ", " << secs << " s\n";
-    } catch (const fabsynth::error& e) {
-        std::cerr << "fem_solve: " << e.what() << "\n";
-        return 1;
-    } catch (const std::exception& e) {
-        std::cerr << "fem_solve: " << e.what() << "\n";
-        return 2;
-    }
-    return 0;
+        progress(1.0, "write");
+        std::ostringstream line;
+        line << "fem_solve: " << m.nodes.size() << " nodes, " << m.elements.size() << " elements, " << r.dofs.total
+             << " dofs; max |u| = " << umax << " mm at node " << m.node_label(umax_node) << "; max von Mises = " << vm_max
+             << " MPa in element " << m.element_label(vm_el) << "; solver " << solver << ", residual " << r.relative_residual << ", "
+             << secs << " s";
+        common.say(line.str());
+        common.summary({{"nodes", m.nodes.size()},
+                        {"elements", m.elements.size()},
+                        {"dofs", r.dofs.total},
+                        {"max_displacement_mm", umax},
+                        {"max_displacement_node", m.node_label(umax_node)},
+                        {"max_von_mises_mpa", vm_max},
+                        {"max_von_mises_element", m.element_label(vm_el)},
+                        {"solver", solver},
+                        {"relative_residual", r.relative_residual},
+                        {"outputs", {(out / "displacements.csv").string(), (out / "stresses.csv").string(), (out / "result.vtk").string()}},
+                        {"seconds", secs}});
+    });
 }

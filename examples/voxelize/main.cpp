@@ -2,9 +2,8 @@
 //
 // Writes OUTDIR/shell.vtk (voxel cells with fields shell 0/1, solid 0/1, normal), OUTDIR/solid.stl
 // (marching cubes of the solid voxels: watertight) and OUTDIR/slices.png (z-slices: shell coloured
-// by normal | solid), and prints a one-line summary.
-#include <CLI/CLI.hpp>
-
+// by normal | solid), and prints a one-line summary (--json: a JSON summary). Conventions (exit
+// codes, --quiet, --json, --version): docs/tools.md.
 #include <fabsynth/core.hpp>
 #include <fabsynth/geometry/marching_cubes.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
@@ -13,12 +12,12 @@
 #include <fabsynth/io/vtk.hpp>
 #include <fabsynth/voxel.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 #include <string>
+
+#include "tool.hpp"
 
 namespace fs = std::filesystem;
 using namespace fabsynth;
@@ -42,41 +41,11 @@ io::structured_points to_vtk(const shell_grid& shell, const voxel_grid<std::uint
     return out;
 }
 
-// Rows of [shell | solid] panels for a few z-slices through the occupied range.
-image8 preview(const shell_grid& shell, const voxel_grid<std::uint8_t>& solid, int slices) {
-    const grid_geometry& g = shell.geometry();
-    const int scale = std::max(1, 200 / std::max(g.dims.x, g.dims.y));
-    const int pw = g.dims.x * scale, ph = g.dims.y * scale, gap = 4;
-    image8 img(2 * pw + 3 * gap, slices * (ph + gap) + gap, 3, 40);
-    for (int s = 0; s < slices; ++s) {
-        const int z = static_cast<int>((s + 1.0) * g.dims.z / (slices + 1.0));
-        const int y0 = gap + s * (ph + gap);
-        for (int y = 0; y < g.dims.y; ++y)
-            for (int x = 0; x < g.dims.x; ++x) {
-                const ivec3 p(x, y, z);
-                std::uint8_t shell_rgb[3] = {0, 0, 0}, solid_rgb[3] = {0, 0, 0};
-                if (shell.storage().is_stored(g.index(p))) {
-                    const vec3 n = shell.get(p).normal;
-                    for (int c = 0; c < 3; ++c) shell_rgb[c] = static_cast<std::uint8_t>(std::lround(127.5 * (n[c] + 1.0)));
-                }
-                if (solid.get(p)) solid_rgb[0] = solid_rgb[1] = solid_rgb[2] = 230;
-                for (int dy = 0; dy < scale; ++dy)
-                    for (int dx = 0; dx < scale; ++dx) {
-                        const int py = y0 + (g.dims.y - 1 - y) * scale + dy;  // +y up
-                        for (int c = 0; c < 3; ++c) {
-                            img.at(gap + x * scale + dx, py, c) = shell_rgb[c];
-                            img.at(2 * gap + pw + x * scale + dx, py, c) = solid_rgb[c];
-                        }
-                    }
-            }
-    }
-    return img;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"Voxelize a triangle mesh: surface shell with normals, solid interior, watertight remesh"};
+    CLI::App app{"Voxelize a triangle mesh: surface shell with normals, solid interior, watertight remesh", "voxelize"};
+    tool::common common(app);
     std::string mesh_path, out_dir;
     int resolution = 128, padding = 1, slices = 4;
     app.add_option("mesh", mesh_path, "input mesh (.obj, .stl, .ply), closed for a meaningful solid")->required();
@@ -84,38 +53,51 @@ int main(int argc, char** argv) {
     app.add_option("--padding", padding, "empty voxels added on every side")->check(CLI::Range(0, 64));
     app.add_option("--slices", slices, "z-slices shown in slices.png")->check(CLI::Range(1, 16));
     app.add_option("-o,--output", out_dir, "output directory")->required();
-    CLI11_PARSE(app, argc, argv);
 
-    try {
+    return tool::run(app, common, argc, argv, [&] {
+        auto progress = common.progress();
         const auto t0 = std::chrono::steady_clock::now();
+        progress(0.0, "read mesh");
         const triangle_mesh mesh = io::read_mesh(mesh_path);
         if (mesh.empty()) throw invalid_input(mesh_path + ": mesh has no faces");
         const grid_geometry g = fit_grid(bounding_box(mesh), resolution, padding);
+        progress(0.1, "surface voxels");
         const shell_grid shell = voxelize_surface(mesh, g);
+        progress(0.4, "solid voxels");
         const voxel_grid<std::uint8_t> solid = voxelize_solid(mesh, g);
+        progress(0.6, "marching cubes");
         const triangle_mesh remesh = marching_cubes(solid);
         const auto shell_cc = label_components<connectivity::c26>(shell, [](const shell_voxel& v) { return v.normal != vec3(0); });
         const auto topo = analyze_topology(remesh);
 
+        progress(0.8, "write");
         fs::create_directories(out_dir);
         io::write_vtk(fs::path(out_dir) / "shell.vtk", to_vtk(shell, solid));
         io::write_mesh(fs::path(out_dir) / "solid.stl", remesh);
-        io::write_png(fs::path(out_dir) / "slices.png", preview(shell, solid, slices));
+        io::write_png(fs::path(out_dir) / "slices.png", shell_solid_slices(shell, solid, slices));
+        progress(1.0, "write");
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
         const std::uint64_t nsolid = solid.count_if([](std::uint8_t v) { return v != 0; });
-        std::printf("%s: %zu triangles, grid %dx%dx%d (voxel %.4g mm): shell %llu voxels (%d 26-components), solid %llu voxels, "
-                    "solid.stl %zu faces %s genus %lld, %.2f s\n",
-                    fs::path(mesh_path).filename().string().c_str(), mesh.num_faces(), g.dims.x, g.dims.y, g.dims.z,
-                    g.spacing.x, static_cast<unsigned long long>(shell.storage().stored()), shell_cc.count,
-                    static_cast<unsigned long long>(nsolid), remesh.num_faces(),
-                    topo.is_watertight() ? "watertight" : "NOT watertight", topo.genus, secs);
-        return 0;
-    } catch (const fabsynth::error& e) {
-        std::cerr << e.what() << "\n";
-        return 1;
-    } catch (const std::exception& e) {
-        std::cerr << "voxelize: " << e.what() << "\n";
-        return 1;
-    }
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "%s: %zu triangles, grid %dx%dx%d (voxel %.4g mm): shell %llu voxels (%d 26-components), solid %llu voxels, "
+                      "solid.stl %zu faces %s genus %lld, %.2f s",
+                      fs::path(mesh_path).filename().string().c_str(), mesh.num_faces(), g.dims.x, g.dims.y, g.dims.z, g.spacing.x,
+                      static_cast<unsigned long long>(shell.storage().stored()), shell_cc.count, static_cast<unsigned long long>(nsolid),
+                      remesh.num_faces(), topo.is_watertight() ? "watertight" : "NOT watertight", static_cast<long long>(topo.genus), secs);
+        common.say(line);
+        common.summary({{"input_triangles", mesh.num_faces()},
+                        {"grid", {g.dims.x, g.dims.y, g.dims.z}},
+                        {"voxel_mm", g.spacing.x},
+                        {"shell_voxels", shell.storage().stored()},
+                        {"shell_components_26", shell_cc.count},
+                        {"solid_voxels", nsolid},
+                        {"solid_faces", remesh.num_faces()},
+                        {"watertight", topo.is_watertight()},
+                        {"genus", topo.genus},
+                        {"outputs", {(fs::path(out_dir) / "shell.vtk").string(), (fs::path(out_dir) / "solid.stl").string(),
+                                     (fs::path(out_dir) / "slices.png").string()}},
+                        {"seconds", secs}});
+    });
 }

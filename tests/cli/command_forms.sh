@@ -26,7 +26,7 @@ grep -qi "CONTACT PAIR" "$work/bad.log" || fail "unsupported keyword not named: 
   printf 'DIMENSIONS 4 4 4\nORIGIN 0 0 0\nSPACING 1 1 1\nPOINT_DATA 64\nSCALARS density double 1\nLOOKUP_TABLE default\n'
   for _ in $(seq 64); do echo 1; done
 } >"$work/block.vtk"
-"$bin/homogenize/homogenize" "$work/block.vtk" --E 200 --nu 0.3 >"$work/block.json" 2>/dev/null
+"$bin/homogenize/homogenize" "$work/block.vtk" --E 200 --nu 0.3 --json >"$work/block.json" 2>/dev/null
 grep -Eq '"E": *200(\.0*)?[,[:space:]]|"E": *199\.99999' "$work/block.json" || fail "homogenize E: $(cat "$work/block.json")"
 grep -Eq '"volume_fraction": *1(\.0*)?[,[:space:]}]' "$work/block.json" || fail "homogenize volume_fraction: $(cat "$work/block.json")"
 
