@@ -1,0 +1,189 @@
+// The tool convention (docs/tools.md) checked on every tool: exit codes for bad arguments, bad
+// files, impossible requests; --json parsed by a JSON parser; --version; no progress control
+// characters in a non-terminal stderr; nothing left at the output path after a refused run.
+// Tools run as child processes (stdout and stderr to files, stdin closed).
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+const fs::path bin_dir = FABSYNTH_TOOLS_DIR;
+const fs::path data_dir = FABSYNTH_DATA_DIR;
+const fs::path work_dir = FABSYNTH_TEST_TMP;
+
+struct result {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// Runs TOOL ARGS... with stdin from /dev/null and FABSYNTH_NUM_THREADS=1.
+result run(const std::string& tool, const std::vector<std::string>& args) {
+    fs::create_directories(work_dir);
+    const fs::path out = work_dir / (tool + ".out"), err = work_dir / (tool + ".err");
+    std::string cmd = "FABSYNTH_NUM_THREADS=1 " + quote((bin_dir / tool / tool).string());
+    for (const auto& a : args) cmd += " " + quote(a);
+    cmd += " </dev/null >" + quote(out.string()) + " 2>" + quote(err.string());
+    const int status = std::system(cmd.c_str());
+    result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+
+std::string write_file(const std::string& name, const std::string& text) {
+    fs::create_directories(work_dir);
+    const fs::path p = work_dir / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p.string();
+}
+
+// A row of the table: a command line and what the convention promises for it.
+struct cli_case {
+    std::string what;
+    std::vector<std::string> args;
+    int code;
+    std::string message;  // substring of stderr (empty: only the "fabsynth:" prefix is checked)
+};
+
+void check_case(const std::string& tool, const cli_case& c) {
+    INFO(tool << ": " << c.what);
+    const result r = run(tool, c.args);
+    INFO("stderr: " << r.err);
+    CHECK(r.code == c.code);
+    if (c.code != 0) {
+        CHECK(r.err.find("fabsynth:") != std::string::npos);
+        if (!c.message.empty()) CHECK(r.err.find(c.message) != std::string::npos);
+    }
+    CHECK(r.err.find('\r') == std::string::npos);  // stderr is a file here: plain lines only
+}
+
+// --version, --help with defaults, an unknown option, and --json on a failing run.
+void check_common(const std::string& tool, const std::vector<std::string>& failing_args, int failing_code) {
+    const result v = run(tool, {"--version"});
+    CHECK(v.code == 0);
+    CHECK(v.out.rfind("fabsynth ", 0) == 0);
+    const result h = run(tool, {"--help"});
+    CHECK(h.code == 0);
+    CHECK(h.out.find("--json") != std::string::npos);
+    std::vector<std::string> args = failing_args;
+    args.push_back("--no-such-option");
+    check_case(tool, {"unknown option", args, 2, "--no-such-option"});
+    args = failing_args;
+    args.push_back("--json");
+    const result f = run(tool, args);
+    CHECK(f.code == failing_code);
+    const json j = json::parse(f.out);  // throws (fails the test) on invalid JSON
+    CHECK(j.at("tool") == tool);
+    CHECK(j.at("status") == "error");
+    CHECK(j.at("exit_code") == failing_code);
+    CHECK(j.at("message").get<std::string>().rfind("fabsynth:", 0) == 0);
+}
+
+}  // namespace
+
+TEST_CASE("voxelize follows the tool convention", "[cli][voxelize]") {
+    const std::string bad_obj = write_file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
+    const std::string out = (work_dir / "vox_out").string();
+    fs::remove_all(out);
+    for (const cli_case& c : std::vector<cli_case>{
+             {"missing input", {(work_dir / "none.obj").string(), "-o", out}, 5, "does not exist"},
+             {"malformed mesh", {bad_obj, "-o", out}, 5, "bad.obj"},
+             {"resolution out of range", {(data_dir / "meshes/bunny_lowres.obj").string(), "-r", "0", "-o", out}, 2, "--resolution"},
+             {"missing output", {(data_dir / "meshes/bunny_lowres.obj").string()}, 2, "--output"},
+         })
+        check_case("voxelize", c);
+    CHECK_FALSE(fs::exists(out));
+    check_common("voxelize", {bad_obj, "-o", out}, 5);
+
+    const result ok = run("voxelize", {(data_dir / "meshes/bunny_lowres.obj").string(), "-r", "24", "-o", out, "--json"});
+    REQUIRE(ok.code == 0);
+    const json j = json::parse(ok.out);
+    CHECK(j.at("status") == "ok");
+    CHECK(j.at("watertight") == true);
+    CHECK(j.at("grid").size() == 3);
+    CHECK(j.at("shell_voxels").get<long>() > 0);
+    CHECK(fs::exists(fs::path(out) / "solid.stl"));
+    const result quiet = run("voxelize", {(data_dir / "meshes/bunny_lowres.obj").string(), "-r", "16", "-o", out, "--quiet"});
+    CHECK(quiet.code == 0);
+    CHECK(quiet.err.empty());
+}
+
+TEST_CASE("fem_solve follows the tool convention", "[cli][fem_solve]") {
+    const std::string out = (work_dir / "fem_out").string();
+    fs::remove_all(out);
+    const std::string unsupported = write_file("contact.inp", "*NODE\n1, 0, 0, 0\n*CONTACT PAIR\n");
+    const std::string unsupported_part = write_file(
+        "floating.inp",
+        "*NODE\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,1,0,1\n7,1,1,1\n8,0,1,1\n*ELEMENT, TYPE=C3D8, ELSET=E\n1,1,2,3,4,5,6,7,8\n"
+        "*MATERIAL, NAME=M\n*ELASTIC\n1000, 0.3\n*SOLID SECTION, ELSET=E, MATERIAL=M\n*STEP\n*STATIC\n*CLOAD\n7, 3, -1\n*END STEP\n");
+    for (const cli_case& c : std::vector<cli_case>{
+             {"missing deck", {(work_dir / "none.inp").string(), "-o", out}, 5, "does not exist"},
+             {"unsupported keyword", {unsupported, "-o", out}, 5, "CONTACT PAIR"},
+             {"unknown solver", {(data_dir / "fem/cantilever_c3d8.inp").string(), "-o", out, "--solver", "magic"}, 2, "--solver"},
+             {"no supports: singular system", {unsupported_part, "-o", out}, 4, ""},
+         })
+        check_case("fem_solve", c);
+    CHECK_FALSE(fs::exists(fs::path(out) / "displacements.csv"));
+    check_common("fem_solve", {unsupported_part, "-o", out}, 4);
+
+    const result ok = run("fem_solve", {(data_dir / "fem/cantilever_c3d8.inp").string(), "-o", out, "--json"});
+    REQUIRE(ok.code == 0);
+    const json j = json::parse(ok.out);
+    CHECK(j.at("nodes") == 189);
+    CHECK(j.at("elements") == 80);
+    CHECK(j.at("max_displacement_mm").get<double>() > 0);
+    CHECK(j.at("relative_residual").get<double>() < 1e-8);
+}
+
+TEST_CASE("homogenize follows the tool convention", "[cli][homogenize]") {
+    std::string block = "# vtk DataFile Version 3.0\nblock\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 3 3 3\nORIGIN 0 0 0\n"
+                        "SPACING 1 1 1\nPOINT_DATA 27\nSCALARS density double 1\nLOOKUP_TABLE default\n";
+    for (int i = 0; i < 27; ++i) block += "1\n";
+    const std::string grid = write_file("block.vtk", block);
+    const std::string preview = (work_dir / "hom_preview.png").string();
+    fs::remove(preview);
+    const std::string truncated = write_file("truncated.vtk", block.substr(0, block.size() - 20));
+    for (const cli_case& c : std::vector<cli_case>{
+             {"missing grid", {(work_dir / "none.vtk").string()}, 5, "does not exist"},
+             {"truncated grid", {truncated, "--preview", preview}, 5, "truncated.vtk"},
+             {"no such field", {grid, "--field", "stiffness"}, 2, "stiffness"},
+             {"unknown solver", {grid, "--solver", "magic"}, 2, ""},
+         })
+        check_case("homogenize", c);
+    CHECK_FALSE(fs::exists(preview));
+    check_common("homogenize", {grid, "--field", "stiffness"}, 2);
+
+    const result ok = run("homogenize", {grid, "--E", "200", "--nu", "0.3", "--json"});
+    REQUIRE(ok.code == 0);
+    const json j = json::parse(ok.out);
+    CHECK(j.at("E").get<double>() == Approx(200).epsilon(1e-6));
+    CHECK(j.at("nu").get<double>() == Approx(0.3).epsilon(1e-6));
+    CHECK(j.at("volume_fraction").get<double>() == Approx(1.0));
+    CHECK(j.at("C").size() == 6);
+}
