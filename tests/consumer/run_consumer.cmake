@@ -12,10 +12,26 @@ macro(run)
 endmacro()
 run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${WORK_DIR}/prefix)
 
+# The README's embed example: its cmake block becomes a project, its cpp block app.cpp.
+file(READ ${SOURCE_DIR}/README.md readme)
+string(REGEX MATCH "<!-- embed-example:[^\n]*\n```cmake\n(.*)\n```\n\n```cpp\n(.*)\n```\n<!-- embed-example:end -->" _ "${readme}")
+if(NOT CMAKE_MATCH_1 OR NOT CMAKE_MATCH_2)
+  message(FATAL_ERROR "README.md: the embed example (cmake + cpp blocks between the embed-example markers) was not found")
+endif()
+file(WRITE ${WORK_DIR}/readme_app/CMakeLists.txt "${CMAKE_MATCH_1}\n")
+file(WRITE ${WORK_DIR}/readme_app/app.cpp "${CMAKE_MATCH_2}\n")
+
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/build -G ${GENERATOR}
     -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run(${WORK_DIR}/build/consumer)
+run(${CMAKE_COMMAND} -S ${WORK_DIR}/readme_app -B ${WORK_DIR}/readme_app/build -G ${GENERATOR}
+    -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/readme_app/build)
+execute_process(COMMAND ${WORK_DIR}/readme_app/build/app WORKING_DIRECTORY ${WORK_DIR}/readme_app RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK_DIR}/readme_app/slice.png)
+  message(FATAL_ERROR "the README example did not run as documented (exit ${rc}, slice.png missing?)")
+endif()
 
 find_program(PKG_CONFIG pkg-config REQUIRED)
 find_program(CXX_COMPILER c++ REQUIRED)
