@@ -171,8 +171,7 @@ template <class P>
 class greedy_sampler {
 public:
     greedy_sampler(std::span<const P> points, std::uint64_t seed, std::span<const std::size_t> subset,
-                   std::span<const std::uint8_t> mask, const char* who)
-        : points_(points) {
+                   std::span<const std::uint8_t> mask, const char* who) {
         const std::string name(who);
         if (points.empty()) throw invalid_input(name + ": the point set is empty");
         if (!mask.empty() && mask.size() != points.size())
@@ -199,6 +198,9 @@ public:
         for (std::size_t i : order_) key[i] = hash64(seed, i);
         std::sort(order_.begin(), order_.end(),
                   [&](std::size_t a, std::size_t b) { return key[a] < key[b] || (key[a] == key[b] && a < b); });
+        // A copy in priority order: the batches then read memory sequentially.
+        ranked_.resize(order_.size());
+        for (std::size_t k = 0; k < order_.size(); ++k) ranked_[k] = points[order_[k]];
     }
 
     [[nodiscard]] std::size_t candidates() const noexcept { return order_.size(); }
@@ -206,23 +208,25 @@ public:
 
     /// Diagonal of the candidates' bounding box.
     [[nodiscard]] double diameter() const {
-        P lo = points_[order_[0]], hi = lo;
-        for (std::size_t i : order_) lo = glm::min(lo, points_[i]), hi = glm::max(hi, points_[i]);
+        P lo = ranked_[0], hi = lo;
+        for (const P& p : ranked_) lo = glm::min(lo, p), hi = glm::max(hi, p);
         return std::sqrt(distance_sq(lo, hi));
     }
 
-    /// The greedy sample set for radius r (> 0), in priority order.
+    /// The greedy sample set for radius r (> 0), in priority order (indices into the input).
     [[nodiscard]] std::vector<std::size_t> evaluate(double r) const {
+        // All indices below are ranks (positions in the priority order, i.e. into ranked_).
+        const std::span<const P> pts(ranked_);
         const double r2 = r * r, prune2 = r2 * (1.0 + 1e-9) + std::numeric_limits<double>::min();
         std::vector<std::size_t> accepted;
-        indexed_points<P> accepted_data{points_, &accepted};
+        indexed_points<P> accepted_data{pts, &accepted};
         std::vector<std::uint8_t> survives;
         std::vector<std::size_t> survivors, near;
-        indexed_points<P> survivor_data{points_, &survivors};
+        indexed_points<P> survivor_data{pts, &survivors};
         std::vector<std::uint8_t> killed;
         std::size_t batch = 256;
-        for (std::size_t begin = 0; begin < order_.size(); begin += batch, batch *= 2) {
-            const std::size_t end = std::min(order_.size(), begin + batch);
+        for (std::size_t begin = 0; begin < pts.size(); begin += batch, batch *= 2) {
+            const std::size_t end = std::min(pts.size(), begin + batch);
             // 1. In parallel: a candidate near a sample of an earlier batch is rejected for good.
             survives.assign(end - begin, 1);
             if (!accepted.empty()) {
@@ -230,18 +234,17 @@ public:
                 parallel_for(
                     begin, end,
                     [&](std::size_t k) {
-                        const P& q = points_[order_[k]];
-                        any_within<P> rs{points_, &accepted, q, r2, prune2};
+                        any_within<P> rs{pts, &accepted, pts[k], r2, prune2};
                         double qd[3] = {0.0, 0.0, 0.0};
-                        for (glm::length_t d = 0; d < point_traits<P>::dim; ++d) qd[d] = static_cast<double>(q[d]);
+                        for (glm::length_t d = 0; d < point_traits<P>::dim; ++d) qd[d] = static_cast<double>(pts[k][d]);
                         tree.findNeighbors(rs, qd, {});
                         survives[k - begin] = rs.found ? 0 : 1;
                     },
-                    {.grain = 512});
+                    {.grain = 1024});
             }
             survivors.clear();
             for (std::size_t k = begin; k < end; ++k)
-                if (survives[k - begin]) survivors.push_back(order_[k]);
+                if (survives[k - begin]) survivors.push_back(k);
             if (survivors.empty()) continue;
             // 2. Sequentially, in priority order: greedy among the survivors (a k-d tree over them
             //    finds the survivors an accepted one rejects).
@@ -250,21 +253,22 @@ public:
             for (std::size_t s = 0; s < survivors.size(); ++s) {
                 if (killed[s]) continue;
                 accepted.push_back(survivors[s]);
-                const P& q = points_[survivors[s]];
+                const P& q = pts[survivors[s]];
                 near.clear();
-                all_within<P> rs{points_, &survivors, q, r2, prune2, &near};
+                all_within<P> rs{pts, &survivors, q, r2, prune2, &near};
                 double qd[3] = {0.0, 0.0, 0.0};
                 for (glm::length_t d = 0; d < point_traits<P>::dim; ++d) qd[d] = static_cast<double>(q[d]);
                 tree.findNeighbors(rs, qd, {});
                 for (std::size_t t : near) killed[t] = 1;
             }
         }
+        for (std::size_t& a : accepted) a = order_[a];
         return accepted;
     }
 
 private:
-    std::span<const P> points_;
     std::vector<std::size_t> order_;  // candidates by increasing priority
+    std::vector<P> ranked_;           // the points in that order: ranked_[k] = points[order_[k]]
 };
 
 template <class R>
