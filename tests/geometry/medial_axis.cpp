@@ -8,7 +8,11 @@
 #include <set>
 #include <vector>
 
+#include <polyclipping/clipper.hpp>
+
+#include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/medial_axis.hpp"
+#include "fabsynth/io/svg.hpp"
 
 namespace {
 
@@ -231,6 +235,44 @@ TEST_CASE("medial axis of a wavy strip with a hole: half-widths are the boundary
     check_skeleton_basics(band, sk);
     for (int d : degrees(sk)) CHECK(d == 2);  // one loop once the spikes are pruned
     for (double hw : sk.half_widths) CHECK((hw > 0.5 && hw < 1.5));
+}
+
+TEST_CASE("medial axis of the bundled filigree elements (stroke outlines)", "[geometry][medial_axis]") {
+    for (const char* name : {"c_scroll", "heart_curls", "leaf", "s_curl", "spiral"}) {
+        INFO(name);
+        // Outline of the strokes: a Clipper round offset of the open polylines by half the width.
+        const auto doc = fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/filigree/" + name + ".svg", {.tolerance = 0.01});
+        const auto grid = fabsynth::clip_grid::for_bounds(doc.bounds().inflated(5.0));
+        ClipperLib::ClipperOffset offset(2.0, 0.01 * grid.scale);
+        double half = 0.5;
+        for (const auto& s : doc.shapes) {
+            half = 0.5 * s.stroke_width;
+            for (const auto& sp : s.subpaths) {
+                ClipperLib::Path path;
+                for (const vec2& p : sp) path.push_back(grid.to_int(p));
+                offset.AddPath(path, ClipperLib::jtRound, ClipperLib::etOpenRound);
+            }
+        }
+        ClipperLib::PolyTree tree;
+        offset.Execute(tree, half * grid.scale);
+        std::vector<polygon_with_holes> polys;
+        for (const ClipperLib::PolyNode* outer : tree.Childs) fabsynth::detail::clip::collect(*outer, grid, polys);
+        REQUIRE_FALSE(polys.empty());
+        for (const auto& poly : polys) {
+            const auto sk = fabsynth::medial_axis(poly, {.flattening_tolerance = 0.01, .prune_length = 1.0});
+            check_skeleton_basics(poly, sk);
+            // Strips of constant width: the median half-width is the stroke's half-width (up to
+            // the offset's arc tolerance; discs grow only where strokes meet), and pruning leaves
+            // no spikes into the rounded outline.
+            auto hw = sk.half_widths;
+            std::nth_element(hw.begin(), hw.begin() + hw.size() / 2, hw.end());
+            CHECK(hw[hw.size() / 2] == Approx(half).margin(0.02));
+            for (double h : hw) CHECK(h <= 2 * half);
+            const auto d = degrees(sk);
+            CHECK(std::count(d.begin(), d.end(), 0) == 0);
+            CHECK(std::count(d.begin(), d.end(), 1) <= 2 * static_cast<long>(doc.shapes.size()) + 2);
+        }
+    }
 }
 
 TEST_CASE("medial axis rejects bad input", "[geometry][medial_axis][errors]") {
