@@ -167,6 +167,8 @@ using kd_tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor
 /// The candidates in priority order, validated once; evaluate(r) runs the greedy for radius r.
 /// A k-d tree (nanoflann) over the samples of earlier batches answers "any sample within r?";
 /// it is rebuilt once per batch (batches double, so O(log n) rebuilds of at most #samples points).
+/// nanoflann rather than a uniform grid of cell r/sqrt(d): no cell-count blow-up for tiny radii
+/// during the count search, nor for flat or clustered point sets.
 template <class P>
 class greedy_sampler {
 public:
