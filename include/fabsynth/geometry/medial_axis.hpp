@@ -193,7 +193,9 @@ inline integer_polygon make_integer_polygon(const polygon_with_holes& input, dou
             }
             q.swap(kept);
         }
-        if (q.size() < 3 || orient(q[0], q[1], q[2]) == 0)
+        double twice_area = 0.0;  // orientation must survive the rounding (sign only, so double suffices)
+        for (std::size_t i = 1; i + 1 < q.size(); ++i) twice_area += static_cast<double>(orient(q[0], q[i], q[i + 1]));
+        if (q.size() < 3 || (r == 0 ? !(twice_area > 0.0) : !(twice_area < 0.0)))
             throw invalid_input("medial_axis: " + ring_name(r) + " collapses on the grid of step flattening_tolerance / 64; "
                                 "use a smaller flattening_tolerance");
         ip.rings.push_back(std::move(q));
