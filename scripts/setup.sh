@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libglm-dev libnanoflann-dev
   libstb-dev libtinyobjloader-dev libcli11-dev
   libpolyclipping-dev libsuitesparse-dev
+  libboost-dev                     # header-only: Boost.Polygon segment Voronoi (medial axis)
   catch2 libbenchmark-dev
   nlohmann-json3-dev               # the tools' --json summaries (examples/common/tool.hpp)
 )

@@ -1,11 +1,13 @@
 #pragma once
 /// @file geometry.hpp  Geometry building blocks: meshes, polygons, Clipper booleans, distances,
-/// marching cubes, mesh topology, planar curves with a band map, triangulation and extrusion.
+/// marching cubes, mesh topology, planar curves with a band map, triangulation, extrusion and the
+/// medial axis of polygons with holes.
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/extrude.hpp"
 #include "fabsynth/geometry/marching_cubes.hpp"
+#include "fabsynth/geometry/medial_axis.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/polygon.hpp"
