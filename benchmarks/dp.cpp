@@ -6,7 +6,7 @@
 // consecutive lines with the same count, as topology-driven slicing guarantees), random planar
 // connectivity inside each piece, the whole exemplar forming one component; portal heights and
 // tangents drawn once per slicing line so that exemplar neighbours match perfectly. Costs come from
-// dp::portal_transition_table (§3.6.1, alpha = 0.8). Every case asks for one component, uses the
+// vector_pattern::portal_transition_table (§3.6.1, alpha = 0.8). Every case asks for one component, uses the
 // drift bound H = exemplar height and the autocorrelation penalty (as all of Table 1 does); the
 // starred (closed) rows ask for a closed ring.
 //
@@ -17,6 +17,7 @@
 
 #include <fabsynth/dp.hpp>
 #include <fabsynth/topology.hpp>
+#include <fabsynth/vector_pattern/portal_cost.hpp>
 
 #include <malloc.h>
 
@@ -63,6 +64,7 @@ namespace {
 
 namespace dp = fabsynth::dp;
 namespace topo = fabsynth::topology;
+namespace vp = fabsynth::vector_pattern;
 
 struct instance {
     std::vector<double> widths;
@@ -101,7 +103,7 @@ instance make_instance(std::size_t n, std::uint64_t seed) {
             in.widths.push_back(rng.uniform(3.0, 8.0));
         }
         if (!(whole.finished() && whole.enclosed() == 1)) continue;  // the exemplar is one piece
-        std::vector<dp::portal_side> lines(n + 1);
+        std::vector<vp::portal_side> lines(n + 1);
         for (std::size_t s = 0; s <= n; ++s) {
             std::vector<double> h(2 * count[s]);
             for (auto& y : h) y = rng.uniform(-in.height / 2, in.height / 2);
@@ -112,9 +114,9 @@ instance make_instance(std::size_t n, std::uint64_t seed) {
                 lines[s].tangents.push_back({std::cos(a), std::sin(a)});
             }
         }
-        std::vector<dp::piece_portals> portals(n);
+        std::vector<vp::piece_portals> portals(n);
         for (std::size_t i = 0; i < n; ++i) portals[i] = {lines[i], lines[i + 1]};
-        in.table = dp::portal_transition_table(portals);
+        in.table = vp::portal_transition_table(portals);
         return in;
     }
 }
@@ -125,18 +127,18 @@ instance make_instance(std::size_t n, std::uint64_t seed) {
 void BM_topology_dp(benchmark::State& st) {
     const auto n = static_cast<std::size_t>(st.range(0));
     const auto result_pieces = static_cast<double>(st.range(1));
-    const bool cyclic = st.range(2) != 0;
+    const bool closed = st.range(2) != 0;
     const bool count_all = st.range(3) != 0;
     const instance in = make_instance(n, 2014 + n * 1000 + static_cast<std::uint64_t>(result_pieces));
     double mean_w = 0;
     for (double w : in.widths) mean_w += w / static_cast<double>(n);
     dp::sequence_options opt;
     opt.target_length = result_pieces * mean_w;
-    opt.band_height = in.height;
+    opt.offset_range = in.height;
     opt.autocorrelation_weight = 1.0;
-    opt.cyclic = cyclic;
-    if (!cyclic) opt.first_pieces = {0}, opt.last_pieces = {n - 1};
-    const topo::constraints want{.components = 1, .closed_loop = cyclic};
+    opt.closed = closed;
+    if (!closed) opt.first_pieces = {0}, opt.last_pieces = {n - 1};
+    const topo::constraints want{.components = 1, .closed_loop = closed};
     std::size_t pieces_out = 0, entries = 0, table_bytes = 0, peak = 0;
     for (auto _ : st) {
         const std::size_t before = g_current.load();

@@ -11,24 +11,23 @@
 // (vector_pattern/synthesis.hpp), mapped onto the curve (vector_pattern/band_map.hpp) and extruded to a
 // watertight slab tessellated in the parameter domain (geometry/extrude.hpp, §6.3).
 // Outputs: OUT.svg (filled shapes only), OUT.stl (T mm thick, the SVG's y axis flipped so the print
-// looks like the drawing), OUT.png (preview, pattern dark on white). Nothing is written unless
+// looks like the drawing), OUT.png (preview, pattern dark on white: vector_pattern/preview.hpp). Nothing is written unless
 // everything succeeded; an impossible request exits with status 1 and the reason on stderr.
 #include <CLI/CLI.hpp>
 
 #include <fabsynth/geometry/curve.hpp>
 #include <fabsynth/geometry/extrude.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
-#include <fabsynth/geometry/raster.hpp>
 #include <fabsynth/geometry/triangulate.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
 #include <fabsynth/io/svg.hpp>
 #include <fabsynth/vector_pattern/band_map.hpp>
 #include <fabsynth/vector_pattern/exemplar.hpp>
+#include <fabsynth/vector_pattern/preview.hpp>
 #include <fabsynth/vector_pattern/synthesis.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -40,42 +39,6 @@
 
 namespace fs = std::filesystem;
 using namespace fabsynth;
-
-namespace {
-
-// The exemplar scaled about the origin by s (a similarity: simplicity and orientation are kept).
-vector_pattern::exemplar scaled(const vector_pattern::exemplar& ex, double s) {
-    vector_pattern::exemplar out = ex;
-    auto scale_ring = [s](ring2& r) {
-        for (vec2& p : r) p *= s;
-    };
-    for (auto& p : out.polygons) {
-        scale_ring(p.outer);
-        for (ring2& h : p.holes) scale_ring(h);
-    }
-    out.bounds = box2(ex.bounds.lo * s, ex.bounds.hi * s);
-    return out;
-}
-
-// Preview: even-odd scanline fill of every ring with 4 x 4 samples per pixel; 0 = pattern, 255 =
-// background.
-image8 preview(const std::vector<polygon_with_holes>& polys, const box2& view, int max_side) {
-    const vec2 size = view.size();
-    const double px = std::max(size.x, size.y) / max_side;
-    const int w = std::max(1, static_cast<int>(std::ceil(size.x / px))), h = std::max(1, static_cast<int>(std::ceil(size.y / px)));
-    constexpr int ss = 4;
-    std::vector<int> cover(static_cast<std::size_t>(w) * h, 0);
-    polygon_rasterizer raster;
-    for (const auto& p : polys) raster.add_polygon(p);
-    raster.for_each_run({view.lo, px / ss, w * ss, h * ss}, [&](int row, int c0, int c1) {
-        for (int c = c0; c < c1; ++c) ++cover[static_cast<std::size_t>(row / ss) * w + static_cast<std::size_t>(c / ss)];
-    });
-    image8 img(w, h, 1, 255);
-    for (std::size_t i = 0; i < cover.size(); ++i) img.data[i] = static_cast<std::uint8_t>(255 - (255 * cover[i]) / (ss * ss));
-    return img;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{
@@ -127,7 +90,7 @@ int main(int argc, char** argv) {
         // Exemplar, scaled to the band height.
         const vector_pattern::exemplar raw = vector_pattern::exemplar_from_svg(io::read_svg(exemplar_path));
         if (!(raw.height() > 0.0)) throw invalid_input(exemplar_path + ": the exemplar has no height");
-        const vector_pattern::exemplar ex = scaled(raw, height / raw.height());
+        const vector_pattern::exemplar ex = vector_pattern::scaled(raw, height / raw.height());
 
         vector_pattern::synthesis_options so;
         so.band_height = height;
@@ -196,16 +159,15 @@ int main(int argc, char** argv) {
                                std::to_string(mesh_topo.boundary_edges) + " boundary, " + std::to_string(mesh_topo.nonmanifold_edges) +
                                " non-manifold edges)");
 
-        box2 bounds = bounding_box(drawn);
+        const box2 bounds = bounding_box(drawn);
         if (bounds.empty()) throw solver_error("the synthesized pattern is empty");
-        const double pad = 0.02 * std::max(bounds.size().x, bounds.size().y);
-        const box2 view(bounds.lo - vec2(pad), bounds.hi + vec2(pad));
+        const box2 view = vector_pattern::framed_view(bounds, 0.02);
         io::svg_document doc;
         doc.width = view.size().x, doc.height = view.size().y;
         doc.width_unit = doc.height_unit = "mm";
         doc.view_box = io::svg_view_box{view.lo.x, view.lo.y, view.size().x, view.size().y};
         doc.shapes.push_back(io::shape_from_polygons(drawn));
-        const image8 png = preview(drawn, view, 1600);
+        const image8 png = vector_pattern::preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
 
         const fs::path svg_out(out_path);
         fs::path stl_out = svg_out, png_out = svg_out;

@@ -1,4 +1,5 @@
 #pragma once
 /// @file dp.hpp  Dynamic-programming building blocks: the generic sequence solver with its policy
-/// concepts, precomputed transition tables and the portal matching costs of §3.6.1.
+/// concepts and precomputed transition tables (dp/sequence_solver.hpp). Transition costs of a
+/// particular problem live with it (vector patterns: vector_pattern/portal_cost.hpp).
 #include "fabsynth/dp/sequence_solver.hpp"

@@ -1,6 +1,7 @@
 // Tests for dp/sequence_solver.hpp: optimality against brute-force enumeration on many random
 // small instances (open and closed, with topology constraints, including impossible ones), the
-// drift bound, the autocorrelation penalty, epsilon growth, portal costs and bad input.
+// drift bound, the autocorrelation penalty, epsilon growth, the solver's phases and bad input.
+// (The vector-pattern portal costs are tested in tests/vector_pattern/portal_cost.cpp.)
 #include <catch2/catch.hpp>
 
 #include <fabsynth/dp.hpp>
@@ -40,14 +41,14 @@ struct instance {
     dp::sequence_options opt;
 };
 
-instance random_instance(fabsynth::counter_rng& rng, bool cyclic) {
+instance random_instance(fabsynth::counter_rng& rng, bool closed) {
     instance in;
     const std::size_t n = 2 + rng.uniform_int(4);  // 2..5 pieces
     std::vector<std::size_t> lc(n), rc(n);
     auto portals = [&] { return rng.uniform() < 0.3 ? std::size_t{0} : 1 + rng.uniform_int(2); };
     for (std::size_t i = 0; i < n; ++i) {
         lc[i] = portals(), rc[i] = portals();
-        if (!cyclic && i == 0) lc[i] = 0;  // a natural left end
+        if (!closed && i == 0) lc[i] = 0;  // a natural left end
         const std::uint32_t extra = rng.uniform() < 0.2 ? 1 : 0;  // sometimes an island or a hole inside
         in.pieces.push_back(fabsynth_test::random_planar_piece(rng, lc[i], rc[i], extra, extra));
         in.widths.push_back(static_cast<double>(1 + rng.uniform_int(3)));
@@ -61,15 +62,15 @@ instance random_instance(fabsynth::counter_rng& rng, bool cyclic) {
     const std::uint64_t c = rng.uniform_int(3), h = rng.uniform_int(3);
     if (c) in.want.components = static_cast<std::uint32_t>(c);
     if (h) in.want.holes = static_cast<std::uint32_t>(h - 1);
-    in.want.closed_loop = cyclic && rng.uniform() < 0.4;
+    in.want.closed_loop = closed && rng.uniform() < 0.4;
     in.opt.target_length = static_cast<double>(3 + rng.uniform_int(8));
     in.opt.epsilon = rng.uniform() < 0.5 ? 0.5 : 1.0;
     in.opt.epsilon_max = in.opt.epsilon + static_cast<double>(rng.uniform_int(3));
     in.opt.epsilon_growth = 1.5;
     in.opt.length_resolution = 1.0;
-    in.opt.cyclic = cyclic;
-    if (!cyclic && rng.uniform() < 0.3) in.opt.first_pieces = {0};
-    if (!cyclic && rng.uniform() < 0.3) in.opt.last_pieces = {n - 1, 0};
+    in.opt.closed = closed;
+    if (!closed && rng.uniform() < 0.3) in.opt.first_pieces = {0};
+    if (!closed && rng.uniform() < 0.3) in.opt.last_pieces = {n - 1, 0};
     return in;
 }
 
@@ -99,7 +100,7 @@ brute_result brute_force(const instance& in, std::size_t node_limit) {
         std::vector<descriptor> ds;
         for (std::size_t p : seq) ds.push_back(in.pieces[p]);
         if (distance <= o.epsilon_max) {
-            if (!o.cyclic) {
+            if (!o.closed) {
                 const auto t = fabsynth_test::oracle(ds, false);
                 const bool finished = ds.front().left().empty() && ds.back().right().empty();
                 if (finished && (o.last_pieces.empty() || contains(o.last_pieces, seq.back())) &&
@@ -117,14 +118,14 @@ brute_result brute_force(const instance& in, std::size_t node_limit) {
         for (std::size_t j = 0; j < n; ++j) {
             if (!in.table.compatible(seq.back(), j) || length + in.widths[j] > l_max) continue;
             const double d = drift + in.table.offset(seq.back(), j);
-            if (!(std::abs(d) < o.band_height / 2)) continue;
+            if (!(std::abs(d) < o.offset_range / 2)) continue;
             seq.push_back(j);
             dfs(length + in.widths[j], cost + in.table.cost(seq[seq.size() - 2], j), d);
             seq.pop_back();
         }
     };
     for (std::size_t s = 0; s < n; ++s) {
-        if (!o.cyclic && !o.first_pieces.empty() && !contains(o.first_pieces, s)) continue;
+        if (!o.closed && !o.first_pieces.empty() && !contains(o.first_pieces, s)) continue;
         if (in.widths[s] > l_max) continue;
         seq = {s};
         dfs(in.widths[s], 0.0, 0.0);
@@ -153,7 +154,7 @@ void check_valid(const instance& in, const std::vector<std::size_t>& seq, double
     }
     std::vector<descriptor> ds;
     for (std::size_t p : seq) ds.push_back(in.pieces[p]);
-    if (in.opt.cyclic) {
+    if (in.opt.closed) {
         REQUIRE(in.table.compatible(seq.back(), seq.front()));
         c += in.table.cost(seq.back(), seq.front());
         const auto t = fabsynth_test::oracle(ds, true);
@@ -174,11 +175,11 @@ void check_valid(const instance& in, const std::vector<std::size_t>& seq, double
     CHECK(std::abs(l - in.opt.target_length) <= in.opt.epsilon_max);
 }
 
-void run_random_instances(bool cyclic, std::uint64_t seed, int count) {
+void run_random_instances(bool closed, std::uint64_t seed, int count) {
     fabsynth::counter_rng rng(seed);
     int solved = 0, impossible = 0, skipped = 0;
     for (int trial = 0; trial < count; ++trial) {
-        const instance in = random_instance(rng, cyclic);
+        const instance in = random_instance(rng, closed);
         const brute_result bf = brute_force(in, 200000);
         if (bf.nodes > 200000) {
             ++skipped;
@@ -202,7 +203,7 @@ void run_random_instances(bool cyclic, std::uint64_t seed, int count) {
         CHECK(r.penalty == 0.0);
         check_valid(in, r.pieces, r.cost, r.length);
         CHECK(std::abs(r.length - in.opt.target_length) <= r.epsilon);
-        if (cyclic) {
+        if (closed) {
             REQUIRE(r.cycle);
             if (in.want.closed_loop) CHECK(r.cycle->closed());
         }
@@ -247,7 +248,7 @@ TEST_CASE("the offset drift bound is honoured and never beats brute force", "[dp
     int both = 0;
     for (int trial = 0; trial < 1000; ++trial) {
         instance in = random_instance(rng, false);
-        in.opt.band_height = 1.0 + static_cast<double>(rng.uniform_int(6));  // offsets are integers in [-2, 2]
+        in.opt.offset_range = 1.0 + static_cast<double>(rng.uniform_int(6));  // offsets are integers in [-2, 2]
         const brute_result bf = brute_force(in, 200000);
         if (bf.nodes > 200000) continue;
         topo::descriptor_policy policy(in.pieces);
@@ -265,7 +266,7 @@ TEST_CASE("the offset drift bound is honoured and never beats brute force", "[dp
         for (std::size_t i = 0; i < r->pieces.size(); ++i) {
             if (i) drift += in.table.offset(r->pieces[i - 1], r->pieces[i]);
             CHECK(r->offsets[i] == drift);
-            CHECK(std::abs(drift) < in.opt.band_height / 2);
+            CHECK(std::abs(drift) < in.opt.offset_range / 2);
         }
         ++both;
     }
@@ -331,7 +332,7 @@ TEST_CASE("closed curves: rings, contradictory targets and loops that cannot clo
     t.set(0, 0, 0.5);
     t.set(1, 1, 0.25);
     topo::descriptor_policy policy(pieces);
-    dp::sequence_options opt{.target_length = 6, .epsilon = 0.5, .epsilon_max = 0.5, .cyclic = true, .length_resolution = 1};
+    dp::sequence_options opt{.target_length = 6, .epsilon = 0.5, .epsilon_max = 0.5, .closed = true, .length_resolution = 1};
     const auto ring = dp::solve_sequence(widths, t, policy, topo::constraints{.components = 1, .closed_loop = true}, opt);
     CHECK(ring.pieces == std::vector<std::size_t>(6, 0));
     CHECK(ring.cost == 3.0);  // six transitions including the closing one
@@ -348,48 +349,8 @@ TEST_CASE("closed curves: rings, contradictory targets and loops that cannot clo
     CHECK_THROWS_AS(dp::solve_sequence(widths, t, policy, topo::constraints{.components = 6, .closed_loop = true}, opt),
                     fabsynth::no_solution);
     // Open curves cannot use these pieces at all (open portals at both ends).
-    opt.cyclic = false;
+    opt.closed = false;
     CHECK_THROWS_AS(dp::solve_sequence(widths, t, policy, topo::constraints{}, opt), fabsynth::no_solution);
-}
-
-TEST_CASE("portal transition costs follow §3.6.1", "[dp]") {
-    const dp::portal_side right_a{{1.0, 0.0, -2.0, -3.0}, {{1, 0}, {1, 0}, {1, 0}, {1, 0}}};
-    const dp::portal_side left_b{{3.5, 2.5, 0.5, -0.5}, {{1, 0}, {0, 2}, {1, 0}, {-1, 0}}};  // shifted by +2.5
-    const dp::portal_match m = dp::match_portals(right_a, left_b);
-    CHECK(m.d_match == Approx(0.0).margin(1e-12));
-    CHECK(m.offset == Approx(-2.5));  // moving b down by 2.5 mm aligns it
-    CHECK(m.d_tangent == Approx(0.0 + 1.0 + 0.0 + 2.0));
-    // Heights 0,0 vs 1,-1: best shift 0, mean squared residual 1.
-    const dp::portal_match v = dp::match_portals({{0.0, 0.0}, {{1, 0}, {1, 0}}}, {{1.0, -1.0}, {{1, 0}, {1, 0}}});
-    CHECK(v.d_match == Approx(1.0));
-    CHECK(v.offset == Approx(0.0));
-
-    std::vector<dp::piece_portals> pieces(3);
-    pieces[0].right = right_a;
-    pieces[1].left = left_b;
-    pieces[1].right = {{0.0, -1.0}, {{1, 0}, {1, 0}}};
-    pieces[2].left = {{0.0, -1.0}, {{1, 0}, {1, 0}}};
-    const dp::transition_table t = dp::portal_transition_table(pieces);
-    CHECK(t.compatible(0, 1));
-    CHECK_FALSE(t.compatible(0, 2));  // 4 endpoints vs 2
-    CHECK_FALSE(t.compatible(1, 1));
-    CHECK(t.compatible(1, 2));
-    CHECK(t.compatible(2, 0));  // 0 endpoints on both: nothing to match
-    CHECK(t.cost(0, 1) == Approx(0.8 * 0.0 + 0.2 * 3.0));
-    CHECK(t.offset(0, 1) == Approx(-2.5));
-    CHECK(t.cost(1, 2) == Approx(0.0).margin(1e-15));
-    CHECK(t.cost(2, 0) == 0.0);
-
-    std::vector<dp::piece_portals> bad(1);
-    bad[0].left = {{1.0}, {{1, 0}}};  // odd endpoint count
-    CHECK_THROWS_AS(dp::portal_transition_table(bad), fabsynth::invalid_input);
-    bad[0].left = {{1.0, 2.0}, {{1, 0}}};  // tangent missing
-    CHECK_THROWS_AS(dp::portal_transition_table(bad), fabsynth::invalid_input);
-    bad[0].left = {{1.0, std::nan("")}, {{1, 0}, {1, 0}}};
-    CHECK_THROWS_AS(dp::portal_transition_table(bad), fabsynth::invalid_input);
-    bad[0].left = {{1.0, 2.0}, {{1, 0}, {0, 0}}};
-    CHECK_THROWS_AS(dp::portal_transition_table(bad), fabsynth::invalid_input);
-    CHECK_THROWS_AS(dp::portal_transition_table(pieces, 1.5), fabsynth::invalid_input);
 }
 
 TEST_CASE("bad input is refused with invalid_input", "[dp]") {
@@ -410,12 +371,12 @@ TEST_CASE("bad input is refused with invalid_input", "[dp]") {
     CHECK_THROWS_AS(solve(w, {.target_length = -3}), invalid_input);
     CHECK_THROWS_AS(solve(w, {.target_length = 10, .epsilon = 2, .epsilon_max = 1}), invalid_input);
     CHECK_THROWS_AS(solve(w, {.target_length = 10, .epsilon_growth = 1.0}), invalid_input);
-    CHECK_THROWS_AS(solve(w, {.target_length = 10, .band_height = 0}), invalid_input);
-    CHECK_THROWS_AS(solve(w, {.target_length = 10, .band_height = nan}), invalid_input);
+    CHECK_THROWS_AS(solve(w, {.target_length = 10, .offset_range = 0}), invalid_input);
+    CHECK_THROWS_AS(solve(w, {.target_length = 10, .offset_range = nan}), invalid_input);
     CHECK_THROWS_AS(solve(w, {.target_length = 10, .autocorrelation_weight = -1}), invalid_input);
     CHECK_THROWS_AS(solve(w, {.target_length = 10, .length_resolution = 1.5}), invalid_input);
     CHECK_THROWS_AS(solve(w, {.target_length = 10, .first_pieces = {2}}), invalid_input);
-    CHECK_THROWS_AS(solve(w, {.target_length = 10, .cyclic = true, .first_pieces = {0}}), invalid_input);
+    CHECK_THROWS_AS(solve(w, {.target_length = 10, .closed = true, .first_pieces = {0}}), invalid_input);
     CHECK_THROWS_AS(t.set(0, 0, nan), invalid_input);
     CHECK_THROWS_AS(t.set(0, 0, -1.0), invalid_input);
     CHECK_THROWS_AS(t.set(0, 5, 1.0), invalid_input);
@@ -465,7 +426,7 @@ TEST_CASE("a mid-size topology instance: valid, deterministic, statistics filled
         for (std::size_t j = 0; j < n; ++j)
             if (rc[i] == lc[j]) in.table.set(i, j, rng.uniform(), rng.uniform(-1, 1));
     in.want = {.components = 1};
-    in.opt = {.target_length = 120, .band_height = 6, .first_pieces = {0}, .last_pieces = {n - 1}};
+    in.opt = {.target_length = 120, .offset_range = 6, .first_pieces = {0}, .last_pieces = {n - 1}};
     topo::descriptor_policy p1(in.pieces), p2(in.pieces);
     const auto a = dp::solve_sequence(in.widths, in.table, p1, in.want, in.opt);
     const auto b = dp::solve_sequence(in.widths, in.table, p2, in.want, in.opt);
@@ -481,4 +442,35 @@ TEST_CASE("a mid-size topology instance: valid, deterministic, statistics filled
     const descriptor final_d = p1.to_descriptor(a.state);
     CHECK(final_d.finished());
     CHECK(final_d.enclosed() == 1);
+}
+
+TEST_CASE("solver phases: defaults, epsilon growth and the choice among candidates", "[dp]") {
+    // check_inputs resolves the defaults: epsilon 0.05 L, epsilon_max 0.2 L, q = shortest width.
+    dp::transition_table t(2);
+    t.set(0, 1, 1.0);
+    const std::vector<double> w{3.0, 2.0};
+    const auto lim = dp::detail::check_inputs(std::span<const double>(w), t, {.target_length = 100});
+    CHECK(lim.pieces == 2);
+    CHECK(lim.epsilon == Approx(5.0));
+    CHECK(lim.epsilon_max == Approx(20.0));
+    CHECK(lim.resolution == 2.0);
+    CHECK(lim.longest == Approx(120.0));
+    CHECK(lim.window == 0);
+    const auto succ = dp::detail::successor_lists(t, 2);
+    REQUIRE(succ[0].size() == 1);
+    CHECK(succ[0][0].piece == 1);
+    CHECK(succ[1].empty());
+
+    struct cand {
+        double distance, total;
+    };
+    const std::vector<cand> c{{3.0, 1.0}, {1.2, 5.0}, {1.0, 7.0}};
+    // 0.5 grows by 1.25 until it admits the nearest candidate (distance 1.0): ... 0.9765625, 1.220703125.
+    const double eps = dp::detail::grown_epsilon(c, 0.5, 10.0, 1.25);
+    CHECK(eps == Approx(1.220703125));
+    const cand* best = dp::detail::cheapest_within(c, eps);
+    REQUIRE(best != nullptr);
+    CHECK(best->total == 5.0);  // the two within eps: the cheaper one
+    CHECK(dp::detail::grown_epsilon(c, 0.5, 0.8, 1.25) == 0.8);  // never beyond epsilon_max
+    CHECK(dp::detail::cheapest_within(c, 0.8) == nullptr);
 }

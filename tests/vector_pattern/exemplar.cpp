@@ -154,3 +154,31 @@ TEST_CASE("clip wrapper: booleans against analytic areas", "[geometry][clip]") {
     CHECK(area(same) == 100.0);
     CHECK_THROWS_AS(clip_strip(disc, 1.0, 1.0), invalid_input);
 }
+
+TEST_CASE("scaled exemplars keep their shape, orientation and topology", "[pattern][exemplar]") {
+    const exemplar ex = vector_pattern::exemplar_from_svg(io::read_svg(vector_path("greek_key.svg")));
+    for (double s : {0.25, 1.0, 3.0}) {
+        INFO("s = " << s);
+        const exemplar sc = vector_pattern::scaled(ex, s);
+        CHECK(sc.components() == ex.components());
+        CHECK(sc.holes() == ex.holes());
+        CHECK(sc.repaired == ex.repaired);
+        CHECK(sc.height() == Approx(s * ex.height()));
+        CHECK(sc.width() == Approx(s * ex.width()));
+        CHECK(sc.area() == Approx(s * s * ex.area()));
+        // The bounds are the scaled bounds, and still the bounding box of the outer rings.
+        box2 b;
+        for (const auto& p : sc.polygons) {
+            CHECK(signed_area(p.outer) > 0.0);
+            for (const ring2& h : p.holes) CHECK(signed_area(h) < 0.0);
+            b.extend(bounding_box(p.outer));
+        }
+        CHECK(b.lo.x == Approx(sc.bounds.lo.x));
+        CHECK(b.hi.y == Approx(sc.bounds.hi.y));
+    }
+    // To a band height, as the curve_patterns driver does.
+    CHECK(vector_pattern::scaled(ex, 10.0 / ex.height()).height() == Approx(10.0));
+    CHECK_THROWS_AS(vector_pattern::scaled(ex, 0.0), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::scaled(ex, -1.0), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::scaled(ex, std::nan("")), invalid_input);
+}

@@ -1,41 +1,54 @@
 #pragma once
 /// @file sequence_solver.hpp  Generic dynamic-programming solver for assembling a sequence of
-/// pieces (Zhou et al. 2014, "Topology-constrained synthesis of vector patterns", §3.5-§3.7).
+/// pieces (after Zhou et al. 2014, "Topology-constrained synthesis of vector patterns", §3.5-§3.7;
+/// nothing here is specific to vector patterns: their portal cost is vector_pattern/portal_cost.hpp).
 ///
 /// Problem. Pieces 0..n-1 have widths w_i > 0 (mm). Find a sequence eta_0..eta_N minimising
-///   F(eta) = sum_i D(eta_i, eta_{i+1})            (+ D(eta_N, eta_0) for a closed curve)
+///   F(eta) = sum_i D(eta_i, eta_{i+1})            (+ D(eta_N, eta_0) for a closed sequence)
 /// subject to: every consecutive pair is compatible (transition policy); the run's state (state
 /// policy, e.g. a topology descriptor) satisfies the constraint policy at the end; the length
 /// l = sum w_{eta_i} is within epsilon of the target L, where epsilon starts at `epsilon` and grows
 /// by `epsilon_growth` only while no valid sequence is found, never beyond `epsilon_max` (a request
 /// met only farther from L is refused with no_solution).
 ///
+/// Open and closed. An *open* sequence has two ends (optionally restricted to `first_pieces` /
+/// `last_pieces`); a *closed* one (`closed = true`) is a cycle: its last piece is followed by its
+/// first, that transition's cost is part of F, and the state policy's close() summarises the run
+/// glued onto itself (`cycle_summary`), which the constraint policy accepts or not.
+///
 /// Table. Sparse, keyed by (length bucket floor(l / q), last piece, state) (+ first piece on closed
-/// curves); each entry keeps the cheapest run reaching its key, with its exact length, accumulated
+/// sequences); each entry keeps the cheapest run reaching its key, with its exact length, accumulated
 /// offset Delta and a back pointer. Layers are filled in increasing length (every width >= q, so a
 /// transition always moves to a later layer). Deviation from the paper, on purpose: the paper keys
 /// by the *number* of pieces and stores the length in the entry, which can drop the only run of the
 /// right length; keying by length makes the DP exact: when every width is a multiple of q, the
 /// returned cost equals the brute-force optimum over all sequences of length <= L + epsilon_max
-/// (with band_height = inf and autocorrelation_weight = 0; the tests check this). The default q is
+/// (with offset_range = inf and autocorrelation_weight = 0; the tests check this). The default q is
 /// the shortest width (exact for uniform slicing); with uneven widths, runs whose lengths fall in
 /// one bucket compete, as all runs of one piece count do in the paper; a smaller q refines this at
 /// a proportional cost in time and memory.
 ///
 /// Heuristics kept from the paper (the result then is valid but may not be optimal):
-///  - offset drift (§3.6.2): runs whose accumulated optimal offset Delta leaves (-H/2, H/2) are
-///    dropped; only the cheapest run per key keeps its Delta.
+///  - offset drift (§3.6.2): runs whose accumulated optimal offset Delta leaves (-H/2, H/2)
+///    (H = offset_range, the paper's band height) are dropped; only the cheapest run per key keeps
+///    its Delta.
 ///  - autocorrelation penalty (§3.7): beta * A(eta) is added to the cost of partial runs, with
 ///    A = max over lags j of sum_i exp(-|eta_i - eta_{i+j}| / sigma). The paper's formula lets
 ///    j = 0, where the sum is always the run length (it would dominate every other lag), so lags
 ///    start at 1; lags are limited to `autocorrelation_window` so an entry stores O(window) sums.
-///  - closed curves: cycles are searched in the table with the first piece kept in the key; by
+///  - closed sequences: cycles are searched in the table with the first piece kept in the key; by
 ///    rotation, each cycle is generated once starting at its smallest piece index (costs and
-///    topology are invariant under rotation).
+///    states are invariant under rotation).
+///
+/// Phases of solve_sequence (detail::, each callable on its own): check_inputs (options checked,
+/// defaults resolved) -> successor_lists -> a sequence_table seeded by add_roots and filled by
+/// fill_layers, which collects the complete sequences met (open_candidate: backtracking starts from
+/// an accepted end; cycle_candidate: a run closing back onto its first piece) -> grown_epsilon and
+/// cheapest_within choose one -> backtrack and accumulated_offsets read it back.
 ///
 /// Complexity: O(E * s) transitions for E table entries and s compatible successors per piece,
 /// each O(1) expected (one state-policy extend, one hash probe) plus O(window) with beta > 0.
-/// E <= (L + epsilon_max) / q * n * S (* n on closed curves) for S reachable states, usually far
+/// E <= (L + epsilon_max) / q * n * S (* n on closed sequences) for S reachable states, usually far
 /// fewer. Memory: ~48 bytes per entry (+ 6 * window with beta > 0) plus the open layers' hash tables;
 /// the whole table is kept for backtracking. `max_entries` bounds it (invalid_input beyond).
 ///
@@ -44,13 +57,13 @@
 /// costs. Nothing depends on hash-table iteration order, so results are bit-identical run to run.
 ///
 /// Policies (C++20 concepts below): transition_cost_policy (D, compatibility, optimal offsets;
-/// transition_table holds precomputed values, portal_transition_table computes §3.6.1's
-/// D = alpha d_match + (1 - alpha) d_tangent), sequence_state_policy (how a run's state evolves;
+/// transition_table holds precomputed values), sequence_state_policy (how a run's state evolves;
 /// topology::descriptor_policy, or `stateless`), sequence_constraint_policy (pruning and acceptance;
 /// topology::constraints, or `unconstrained`).
 ///
 /// Usage:
-///   auto table = fabsynth::dp::portal_transition_table(piece_portals);        // §3.6.1, alpha = 0.8
+///   fabsynth::dp::transition_table table(n);   // or vector_pattern::portal_transition_table(portals)
+///   table.set(0, 1, /*cost=*/0.5, /*offset=*/0.1);  // ... for every compatible pair
 ///   fabsynth::topology::constraints want{.components = 1, .holes = 0};
 ///   auto topo = fabsynth::topology::descriptor_policy::for_constraints(piece_descriptors, want);
 ///   auto r = fabsynth::dp::solve_sequence(widths, table, topo, want, {.target_length = 300.0});
@@ -90,7 +103,7 @@ concept transition_cost_policy = requires(const T& t, std::size_t i, std::size_t
 
 /// State of a run of pieces: start(i) for the run (i), extend(s, j) for the run followed by j
 /// (nullopt = j cannot follow), close(s) = summary once the run's end is joined to its start
-/// (closed curves; nullopt = cannot close), hash(s) consistent with ==. Called once per
+/// (closed sequences; nullopt = cannot close), hash(s) consistent with ==. Called once per
 /// transition: should be O(1) amortised (memoise, as topology::descriptor_policy does).
 template <class P>
 concept sequence_state_policy = requires(P& p, const typename P::state& s, std::size_t piece) {
@@ -115,7 +128,7 @@ concept sequence_constraint_policy =
         { c.accept_cycle(p, z) } -> std::convertible_to<bool>;
     };
 
-/// State policy with no state: plain sequence assembly (every run may end, every loop closes).
+/// State policy with no state: plain sequence assembly (every run may end, every cycle closes).
 struct stateless {
     struct state {
         friend bool operator==(const state&, const state&) = default;
@@ -181,84 +194,6 @@ private:
     std::vector<double> cost_, offset_;
 };
 
-/// One side of a piece as the matching cost sees it (§3.3): the heights y (mm, along the band's
-/// V axis, top to bottom, two endpoints per portal) and the boundary tangents g at those endpoints
-/// (any non-zero length; normalised before use).
-struct portal_side {
-    std::vector<double> heights;
-    std::vector<vec2> tangents;
-};
-
-/// Both sides of a piece.
-struct piece_portals {
-    portal_side left, right;
-};
-
-/// The three terms of §3.6.1 for piece j following piece i.
-struct portal_match {
-    double d_match = 0;    ///< min over tau of mean squared endpoint height difference (mm^2)
-    double d_tangent = 0;  ///< sum_k |1 - g_r,i^k . g_l,j^k|
-    double offset = 0;     ///< optimal tau: shift of j (mm) aligning its left endpoints on i's right ones
-};
-
-/// Matching terms between the right side of i and the left side of j (same endpoint count M).
-/// tau minimising (1/M) sum (y_l,j - y_r,i + tau)^2 is the mean of y_r,i - y_l,j, and the minimum
-/// is the variance of the differences. M = 0 gives zeros. Throws invalid_input on size mismatch,
-/// non-finite values or zero tangents.
-[[nodiscard]] inline portal_match match_portals(const portal_side& right_of_i, const portal_side& left_of_j) {
-    const std::size_t m = right_of_i.heights.size();
-    if (left_of_j.heights.size() != m)
-        throw invalid_input("portal match: sides have " + std::to_string(m) + " and " +
-                            std::to_string(left_of_j.heights.size()) + " portal endpoints");
-    portal_match r;
-    if (m == 0) return r;
-    double mean = 0;
-    for (std::size_t k = 0; k < m; ++k) mean += right_of_i.heights[k] - left_of_j.heights[k];
-    mean /= static_cast<double>(m);
-    double var = 0;
-    for (std::size_t k = 0; k < m; ++k) {
-        const double d = left_of_j.heights[k] - right_of_i.heights[k] + mean;
-        var += d * d;
-    }
-    r.d_match = var / static_cast<double>(m);
-    r.offset = mean;
-    for (std::size_t k = 0; k < m; ++k) {
-        const vec2 a = right_of_i.tangents[k], b = left_of_j.tangents[k];
-        r.d_tangent += std::abs(1.0 - glm::dot(a, b) / (glm::length(a) * glm::length(b)));
-    }
-    return r;
-}
-
-/// Transition table of §3.6.1 over all pairs with equal endpoint counts (M_r,i == M_l,j):
-/// D = alpha d_match + (1 - alpha) d_tangent (alpha = 0.8 in the paper), offset = optimal tau.
-/// Throws invalid_input on malformed sides (height/tangent count mismatch, odd endpoint counts,
-/// non-finite values, zero tangents) or alpha outside [0, 1]. O(n^2 M).
-[[nodiscard]] inline transition_table portal_transition_table(std::span<const piece_portals> pieces,
-                                                              double alpha = 0.8) {
-    if (!(alpha >= 0.0 && alpha <= 1.0)) throw invalid_input("portal transition table: alpha must be in [0, 1]");
-    auto check_side = [](const portal_side& s, std::size_t i, const char* which) {
-        const std::string name = "portal transition table: piece " + std::to_string(i) + " " + which + " side";
-        if (s.heights.size() != s.tangents.size())
-            throw invalid_input(name + " has " + std::to_string(s.heights.size()) + " heights but " +
-                                std::to_string(s.tangents.size()) + " tangents");
-        if (s.heights.size() % 2 != 0) throw invalid_input(name + " has an odd number of portal endpoints");
-        for (std::size_t k = 0; k < s.heights.size(); ++k) {
-            if (!std::isfinite(s.heights[k])) throw invalid_input(name + ": height " + std::to_string(k) + " is not finite");
-            if (!all_finite(s.tangents[k]) || glm::length(s.tangents[k]) == 0.0)
-                throw invalid_input(name + ": tangent " + std::to_string(k) + " is zero or not finite");
-        }
-    };
-    for (std::size_t i = 0; i < pieces.size(); ++i) check_side(pieces[i].left, i, "left"), check_side(pieces[i].right, i, "right");
-    transition_table t(pieces.size());
-    for (std::size_t i = 0; i < pieces.size(); ++i)
-        for (std::size_t j = 0; j < pieces.size(); ++j) {
-            if (pieces[i].right.heights.size() != pieces[j].left.heights.size()) continue;
-            const portal_match m = match_portals(pieces[i].right, pieces[j].left);
-            t.set(i, j, alpha * m.d_match + (1.0 - alpha) * m.d_tangent, m.offset);
-        }
-    return t;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Options and result
 
@@ -268,13 +203,13 @@ struct sequence_options {
     double epsilon = 0;                  ///< initial tolerance |l - L| <= epsilon; 0 = 0.05 L (§3.5)
     double epsilon_growth = 1.25;        ///< tolerance factor while nothing is found (§3.6.3), > 1
     double epsilon_max = 0;              ///< hard cap on the tolerance; 0 = 0.2 L
-    double band_height = std::numeric_limits<double>::infinity();  ///< H: keep |Delta| < H / 2
+    double offset_range = std::numeric_limits<double>::infinity();  ///< H: keep the accumulated offset |Delta| < H / 2
     double autocorrelation_weight = 0;   ///< beta (§3.7); 0 = off
     double autocorrelation_sigma = 0.5;  ///< sigma of §3.7, > 0
     std::size_t autocorrelation_window = 8;   ///< lags 1..window enter A (>= 1)
-    bool cyclic = false;                 ///< closed curve: the last piece connects back to the first
-    std::vector<std::size_t> first_pieces{};  ///< open curves: allowed eta_0 (empty = any)
-    std::vector<std::size_t> last_pieces{};   ///< open curves: allowed eta_N (empty = any)
+    bool closed = false;                 ///< closed sequence: the last piece connects back to the first
+    std::vector<std::size_t> first_pieces{};  ///< open sequences: allowed eta_0 (empty = any)
+    std::vector<std::size_t> last_pieces{};   ///< open sequences: allowed eta_N (empty = any)
     double length_resolution = 0;        ///< q: length bucket width, <= shortest width; 0 = shortest width
     std::size_t max_entries = std::size_t{1} << 22;  ///< table size limit (~48 bytes per entry, + 6 per lag)
 };
@@ -293,12 +228,12 @@ template <class State, class CycleSummary>
 struct sequence_result {
     std::vector<std::size_t> pieces;  ///< eta_0..eta_N
     std::vector<double> offsets;      ///< accumulated optimal offsets Delta_i (mm), Delta_0 = 0
-    double cost = 0;                  ///< F(eta), including D(eta_N, eta_0) on closed curves
+    double cost = 0;                  ///< F(eta), including D(eta_N, eta_0) on closed sequences
     double penalty = 0;               ///< beta * A(eta) (0 when beta = 0)
     double length = 0;                ///< sum of the widths (mm)
     double epsilon = 0;               ///< tolerance that was needed, <= epsilon_max
     State state{};                    ///< state of the run eta_0..eta_N
-    std::optional<CycleSummary> cycle;  ///< closed curves: summary after closing the loop
+    std::optional<CycleSummary> cycle;  ///< closed sequences: summary after closing the cycle
     sequence_stats stats;
 };
 
@@ -310,30 +245,29 @@ std::size_t policy_bytes(const P& p) {
     else
         return 0;
 }
-}  // namespace detail
 
-// ---------------------------------------------------------------------------------------------
-// The solver
+/// Back pointer of a run's first entry (and "no entry" in general).
+inline constexpr std::uint32_t no_pred = 0xffffffffu;
 
-/// Solves the sequence problem described in the file comment.
-/// @param widths       n piece widths (mm), finite and > 0
-/// @param transitions  n x n compatibility, costs D and offsets tau
-/// @param states       state policy (mutable: it may memoise)
-/// @param constraints  constraint policy
-/// @param opt          target length, tolerances, band height, autocorrelation, open/closed, limits
-/// @param progress     called with the fraction of the length range processed
-/// @throws invalid_input for malformed input or when the table would exceed opt.max_entries;
-///         no_solution when no sequence meets the constraints within epsilon_max of the target.
-template <transition_cost_policy T, sequence_state_policy P, class C, progress_callback F = no_progress>
-    requires sequence_constraint_policy<C, P>
-[[nodiscard]] sequence_result<typename P::state, typename P::cycle_summary> solve_sequence(
-    std::span<const double> widths, const T& transitions, P& states, const C& constraints,
-    const sequence_options& opt, F&& progress = {}) {
-    using state_t = typename P::state;
-    constexpr std::uint32_t no_pred = 0xffffffffu;
+// ---- phase 1: inputs checked, defaults resolved
+
+/// The solve's numbers once the options are checked and their defaults resolved.
+struct solve_limits {
+    std::size_t pieces = 0;       ///< n
+    double target = 0;            ///< L
+    double epsilon = 0;           ///< initial tolerance
+    double epsilon_max = 0;       ///< largest tolerance
+    double resolution = 0;        ///< q, the length bucket width
+    double longest = 0;           ///< l_max = L + epsilon_max: no run grows past it
+    double beta = 0;              ///< autocorrelation weight
+    std::size_t window = 0;       ///< lags carried per entry (0 when beta = 0)
+};
+
+/// Validates widths, transitions and options (throws invalid_input naming what is wrong) and
+/// resolves the defaults of epsilon, epsilon_max and length_resolution.
+template <transition_cost_policy T>
+solve_limits check_inputs(std::span<const double> widths, const T& transitions, const sequence_options& opt) {
     const std::size_t n = widths.size();
-
-    // ---- validate
     if (n == 0) throw invalid_input("sequence solver: no pieces");
     if (n > 0xffff) throw invalid_input("sequence solver: " + std::to_string(n) + " pieces is more than 65535");
     if (transitions.size() != n)
@@ -357,7 +291,7 @@ template <transition_cost_policy T, sequence_state_policy P, class C, progress_c
                             std::to_string(eps0) + ")");
     if (!(std::isfinite(opt.epsilon_growth) && opt.epsilon_growth > 1.0))
         throw invalid_input("sequence solver: epsilon_growth must be finite and > 1");
-    if (!(opt.band_height > 0.0)) throw invalid_input("sequence solver: band_height must be > 0 (may be infinite)");
+    if (!(opt.offset_range > 0.0)) throw invalid_input("sequence solver: offset_range must be > 0 (may be infinite)");
     const double beta = opt.autocorrelation_weight;
     if (!(std::isfinite(beta) && beta >= 0.0)) throw invalid_input("sequence solver: autocorrelation_weight must be finite and >= 0");
     if (beta > 0.0) {
@@ -380,20 +314,26 @@ template <transition_cost_policy T, sequence_state_policy P, class C, progress_c
     };
     check_list(opt.first_pieces, "first_pieces");
     check_list(opt.last_pieces, "last_pieces");
-    if (opt.cyclic && (!opt.first_pieces.empty() || !opt.last_pieces.empty()))
-        throw invalid_input("sequence solver: first_pieces / last_pieces apply to open curves only");
+    if (opt.closed && (!opt.first_pieces.empty() || !opt.last_pieces.empty()))
+        throw invalid_input("sequence solver: first_pieces / last_pieces apply to open sequences only");
     if (opt.max_entries == 0 || opt.max_entries >= no_pred) throw invalid_input("sequence solver: max_entries out of range");
-    if constexpr (requires { constraints.validate(states); }) constraints.validate(states);  // e.g. contradictory targets
+    return {n, L, eps0, eps_max, q, l_max, beta, beta > 0.0 ? opt.autocorrelation_window : 0};
+}
 
-    // ---- successor lists (ascending piece index: the deterministic tie-break order)
-    struct successor {
-        std::uint32_t piece;
-        std::uint16_t piece16;
-        double cost, offset;
-    };
+// ---- phase 2: successor lists
+
+/// A compatible transition i -> piece with its cost and offset.
+struct successor {
+    std::uint32_t piece;
+    std::uint16_t piece16;
+    double cost, offset;
+};
+
+/// For every piece, its compatible successors in ascending piece index (the deterministic
+/// tie-break order). Throws invalid_input for a non-finite or negative cost, a non-finite offset.
+template <transition_cost_policy T>
+std::vector<std::vector<successor>> successor_lists(const T& transitions, std::size_t n) {
     std::vector<std::vector<successor>> succ(n);
-    std::vector<std::uint8_t> is_last(n, opt.last_pieces.empty() ? 1 : 0);
-    for (std::size_t i : opt.last_pieces) is_last[i] = 1;
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < n; ++j) {
             if (!transitions.compatible(i, j)) continue;
@@ -403,10 +343,24 @@ template <transition_cost_policy T, sequence_state_policy P, class C, progress_c
                                     ") has a non-finite or negative cost, or a non-finite offset");
             succ[i].push_back({static_cast<std::uint32_t>(j), static_cast<std::uint16_t>(j), c, o});
         }
+    return succ;
+}
 
-    // ---- table
+// ---- phase 3: the table
+
+/// The sparse DP table of the file comment: entries keyed by (length bucket, last piece, first
+/// piece (closed sequences), state), each the cheapest run reaching its key with a back pointer,
+/// plus the autocorrelation lag sums and recent pieces of every entry (beta > 0). The entries
+/// stay for backtracking; only the open layers (a ring of hash tables indexed by bucket) are
+/// transient. Not copyable (the layers index into the entries).
+template <class State>
+class sequence_table {
+public:
+    static constexpr std::uint32_t no_pred = detail::no_pred;
+    static constexpr std::uint16_t before_start = 0xffff;  ///< recent-piece slot before the run's start
+
     struct entry {
-        state_t state;
+        State state;
         double cost;    // F of the run
         double total;   // F + beta * A: what the DP minimises per key
         double length;  // exact sum of widths
@@ -414,190 +368,324 @@ template <transition_cost_policy T, sequence_state_policy P, class C, progress_c
         std::uint16_t piece, first;
         std::uint32_t pred;
     };
-    detail::chunked_store<entry> entries;
-    const std::size_t window = beta > 0.0 ? opt.autocorrelation_window : 0;
-    detail::chunked_store<float> lags(std::max<std::size_t>(window, 1));  // lag sums per entry (beta > 0)
-    // Last `window` pieces of each entry's run, most recent first (no pointer chasing per transition).
-    detail::chunked_store<std::uint16_t> recent(std::max<std::size_t>(window, 1));
-    std::vector<double> kernel;  // exp(-d / sigma) for index distances d
-    if (window) {
-        kernel.resize(n);
-        for (std::size_t d = 0; d < n; ++d) kernel[d] = std::exp(-static_cast<double>(d) / opt.autocorrelation_sigma);
+
+    /// Throws invalid_input when the lengths need too many buckets.
+    sequence_table(std::span<const double> widths, const solve_limits& lim, std::size_t max_entries)
+        : lim_(lim), max_entries_(max_entries), lags_(std::max<std::size_t>(lim.window, 1)),
+          recent_(std::max<std::size_t>(lim.window, 1)) {
+        // Open layers live in a ring indexed by bucket: a transition moves at most ceil(max width / q)
+        // buckets ahead, so ring_size slots never collide.
+        double max_w = 0;
+        for (double w : widths) max_w = std::max(max_w, w);
+        last_bucket_ = static_cast<std::uint64_t>(std::floor(lim.longest / lim.resolution));
+        const double ring_span = std::ceil(max_w / lim.resolution) + 2.0;
+        if (ring_span > double(1u << 16) || double(last_bucket_) > double(1u << 27))
+            throw invalid_input("sequence solver: too many length buckets (longest width / length_resolution = " +
+                                std::to_string(max_w / lim.resolution) + ", target / length_resolution = " +
+                                std::to_string(lim.longest / lim.resolution) + "); raise length_resolution");
+        ring_.resize(static_cast<std::size_t>(std::min(ring_span, double(last_bucket_) + 2.0)));
     }
-    const double half_band = opt.band_height / 2.0;
-    // Open layers live in a ring indexed by bucket: a transition moves at most ceil(max width / q)
-    // buckets ahead, so ring_size slots never collide.
-    double max_w = 0;
-    for (double w : widths) max_w = std::max(max_w, w);
-    const std::uint64_t last_bucket = static_cast<std::uint64_t>(std::floor(l_max / q));
-    const double ring_span = std::ceil(max_w / q) + 2.0;
-    if (ring_span > double(1u << 16) || double(last_bucket) > double(1u << 27))
-        throw invalid_input("sequence solver: too many length buckets (longest width / length_resolution = " +
-                            std::to_string(max_w / q) + ", target / length_resolution = " + std::to_string(l_max / q) +
-                            "); raise length_resolution");
-    const auto ring_size = static_cast<std::size_t>(std::min(ring_span, double(last_bucket) + 2.0));
-    std::vector<detail::index_table> ring(ring_size);
-    std::size_t pending_bytes = 0;
-    sequence_stats stats;
-    auto bucket_of = [q](double l) { return static_cast<std::uint64_t>(std::floor(l / q)); };
-    auto key_hash = [&](std::uint32_t piece, std::uint32_t first, const state_t& s) {
-        return static_cast<std::uint32_t>(hash64(static_cast<std::uint64_t>(states.hash(s)), piece, first));
-    };
-    auto update_peak = [&] {
-        const std::size_t bytes = entries.memory_bytes() + (window ? lags.memory_bytes() + recent.memory_bytes() : 0) + pending_bytes +
-                                  ring.capacity() * sizeof(detail::index_table) + detail::policy_bytes(states);
-        stats.peak_bytes = std::max(stats.peak_bytes, bytes);
-    };
-    // Inserts or improves the entry for (bucket, piece, first, state). Returns its index or no_pred.
-    auto offer = [&](const entry& e, std::uint64_t bucket) -> std::uint32_t {
-        detail::index_table& layer = ring[bucket % ring_size];
-        const std::uint32_t h = key_hash(e.piece, e.first, e.state);
+    sequence_table(const sequence_table&) = delete;
+    sequence_table& operator=(const sequence_table&) = delete;
+
+    [[nodiscard]] std::uint64_t bucket_of(double l) const { return static_cast<std::uint64_t>(std::floor(l / lim_.resolution)); }
+    [[nodiscard]] std::uint64_t last_bucket() const noexcept { return last_bucket_; }
+    [[nodiscard]] const entry& operator[](std::uint32_t i) const { return *entries_[i]; }
+    [[nodiscard]] std::size_t window() const noexcept { return lim_.window; }
+    [[nodiscard]] float* lags(std::uint32_t i) { return lags_[i]; }
+    [[nodiscard]] std::uint16_t* recent(std::uint32_t i) { return recent_[i]; }
+    [[nodiscard]] sequence_stats& stats() noexcept { return stats_; }
+
+    /// Inserts or improves the entry for (bucket, piece, first, state); `state_hash` hashes e.state.
+    /// Returns its index, or no_pred when an existing run of that key is as cheap or cheaper.
+    /// Throws invalid_input beyond max_entries.
+    std::uint32_t offer(const entry& e, std::uint64_t bucket, std::uint64_t state_hash) {
+        detail::index_table& layer = ring_[bucket % ring_.size()];
+        const auto h = static_cast<std::uint32_t>(hash64(state_hash, e.piece, e.first));
         const std::uint32_t found = layer.find(h, [&](std::uint32_t idx) {
-            const entry& o = *entries[idx];
+            const entry& o = *entries_[idx];
             return o.piece == e.piece && o.first == e.first && o.state == e.state;
         });
         if (found != detail::index_table::none) {
             // Strictly cheaper wins; on ties the earlier-created run stays (deterministic order).
-            if (e.total < entries[found]->total) {
-                *entries[found] = e;
+            if (e.total < entries_[found]->total) {
+                *entries_[found] = e;
                 return found;
             }
             return no_pred;
         }
-        if (entries.size() >= opt.max_entries)
-            throw invalid_input("sequence solver: the DP table exceeds max_entries = " + std::to_string(opt.max_entries) +
-                                " (target length " + std::to_string(L) + " mm, length resolution " + std::to_string(q) +
-                                " mm); raise max_entries or length_resolution");
+        if (entries_.size() >= max_entries_)
+            throw invalid_input("sequence solver: the DP table exceeds max_entries = " + std::to_string(max_entries_) +
+                                " (target length " + std::to_string(lim_.target) + " mm, length resolution " +
+                                std::to_string(lim_.resolution) + " mm); raise max_entries or length_resolution");
         const std::size_t before = layer.memory_bytes();
-        const auto idx = static_cast<std::uint32_t>(entries.push_back(e));
-        if (window) lags.push_back(0.0f), recent.push_back(0xffff);
+        const auto idx = static_cast<std::uint32_t>(entries_.push_back(e));
+        if (lim_.window) lags_.push_back(0.0f), recent_.push_back(before_start);
         layer.insert(h, idx);
-        pending_bytes += layer.memory_bytes() - before;
-        ++stats.entries;
+        pending_bytes_ += layer.memory_bytes() - before;
+        ++stats_.entries;
         return idx;
-    };
-
-    // ---- roots: one-piece runs
-    for (std::size_t s = 0; s < n; ++s) {
-        if (!opt.cyclic && !opt.first_pieces.empty() &&
-            std::find(opt.first_pieces.begin(), opt.first_pieces.end(), s) == opt.first_pieces.end())
-            continue;
-        if (widths[s] > l_max) continue;
-        std::optional<state_t> st = states.start(s);
-        if (!st || !constraints.viable(states, *st)) continue;
-        const std::uint32_t at = offer(entry{*st, 0.0, 0.0, widths[s], 0.0f, static_cast<std::uint16_t>(s),
-                                             static_cast<std::uint16_t>(opt.cyclic ? s : 0), no_pred},
-                                       bucket_of(widths[s]));
-        if (window && at != no_pred) recent[at][0] = static_cast<std::uint16_t>(s);
     }
 
-    // ---- fill layers in increasing length
-    struct candidate {
-        std::uint32_t index;
-        double distance, total, cost;
-        std::optional<typename P::cycle_summary> cycle;
-    };
-    std::vector<candidate> candidates;
+    /// Takes the layer of `bucket` out of the ring: its entry indices in creation order (the
+    /// deterministic processing order), empty if the layer holds none.
+    std::vector<std::uint32_t> take_layer(std::uint64_t bucket) {
+        detail::index_table layer;
+        layer.swap(ring_[bucket % ring_.size()]);
+        if (layer.size() == 0) return {};
+        pending_bytes_ -= layer.memory_bytes();
+        ++stats_.layers;
+        return layer.indices();
+    }
+
+    /// Records the peak memory so far (entries, lag rows, open layers and the state policy's memo).
+    void update_peak(std::size_t policy_bytes) {
+        const std::size_t bytes = entries_.memory_bytes() +
+                                  (lim_.window ? lags_.memory_bytes() + recent_.memory_bytes() : 0) + pending_bytes_ +
+                                  ring_.capacity() * sizeof(detail::index_table) + policy_bytes;
+        stats_.peak_bytes = std::max(stats_.peak_bytes, bytes);
+    }
+
+private:
+    solve_limits lim_;
+    std::size_t max_entries_;
+    detail::chunked_store<entry> entries_;
+    detail::chunked_store<float> lags_;  // lag sums per entry (beta > 0)
+    // Last `window` pieces of each entry's run, most recent first (no pointer chasing per transition).
+    detail::chunked_store<std::uint16_t> recent_;
+    std::vector<detail::index_table> ring_;
+    std::uint64_t last_bucket_ = 0;
+    std::size_t pending_bytes_ = 0;
+    sequence_stats stats_;
+};
+
+/// A complete valid sequence met during the fill, within epsilon_max of the target.
+template <class CycleSummary>
+struct candidate {
+    std::uint32_t index;  ///< its last entry
+    double distance;      ///< |l - L|
+    double total, cost;   ///< what is minimised, and F (closing transition included when closed)
+    std::optional<CycleSummary> cycle;
+};
+
+/// Seeds the table with the one-piece runs: every allowed first piece (open sequences:
+/// first_pieces, if given) that fits and whose state is viable.
+template <sequence_state_policy P, class C>
+void add_roots(sequence_table<typename P::state>& table, std::span<const double> widths, P& states, const C& constraints,
+               const sequence_options& opt, const solve_limits& lim) {
+    using entry = typename sequence_table<typename P::state>::entry;
+    for (std::size_t s = 0; s < lim.pieces; ++s) {
+        if (!opt.closed && !opt.first_pieces.empty() &&
+            std::find(opt.first_pieces.begin(), opt.first_pieces.end(), s) == opt.first_pieces.end())
+            continue;
+        if (widths[s] > lim.longest) continue;
+        std::optional<typename P::state> st = states.start(s);
+        if (!st || !constraints.viable(states, *st)) continue;
+        const std::uint32_t at = table.offer(entry{*st, 0.0, 0.0, widths[s], 0.0f, static_cast<std::uint16_t>(s),
+                                                   static_cast<std::uint16_t>(opt.closed ? s : 0), table.no_pred},
+                                             table.bucket_of(widths[s]), static_cast<std::uint64_t>(states.hash(*st)));
+        if (table.window() && at != table.no_pred) table.recent(at)[0] = static_cast<std::uint16_t>(s);
+    }
+}
+
+/// Open sequences (backtracking from an end): the run at `idx` may end here if its last piece is
+/// an allowed last piece and the constraints accept its state.
+template <class P, class C>
+std::optional<candidate<typename P::cycle_summary>> open_candidate(const typename sequence_table<typename P::state>::entry& e,
+                                                                   std::uint32_t idx, double distance, P& states,
+                                                                   const C& constraints,
+                                                                   const std::vector<std::uint8_t>& is_last) {
+    if (is_last[e.piece] && constraints.accept_open(states, e.state))
+        return candidate<typename P::cycle_summary>{idx, distance, e.total, e.cost, std::nullopt};
+    return std::nullopt;
+}
+
+/// Closed sequences (cycle search): the run at `idx` closes if its last piece may be followed by
+/// its first one and the state policy's closing summary is accepted; the closing transition's
+/// cost is added.
+template <transition_cost_policy T, class P, class C>
+std::optional<candidate<typename P::cycle_summary>> cycle_candidate(const typename sequence_table<typename P::state>::entry& e,
+                                                                    std::uint32_t idx, double distance, const T& transitions,
+                                                                    P& states, const C& constraints) {
+    if (!transitions.compatible(e.piece, e.first)) return std::nullopt;
+    if (auto z = states.close(e.state); z && constraints.accept_cycle(states, *z)) {
+        const double closing = transitions.cost(e.piece, e.first);
+        return candidate<typename P::cycle_summary>{idx, distance, e.total + closing, e.cost + closing, *z};
+    }
+    return std::nullopt;
+}
+
+/// Fills the layers in increasing length: every entry is first offered as a candidate (open_candidate
+/// or cycle_candidate, within epsilon_max of the target), then extended by each compatible successor
+/// that keeps the run within l_max, its drift within (-H/2, H/2) and its state viable; with beta > 0
+/// the successor's lag sums and recent pieces are updated and beta * A enters its total.
+/// Returns the candidates in the order met.
+template <transition_cost_policy T, sequence_state_policy P, class C, class F>
+std::vector<candidate<typename P::cycle_summary>> fill_layers(sequence_table<typename P::state>& table,
+                                                              std::span<const double> widths, const T& transitions,
+                                                              const std::vector<std::vector<successor>>& succ, P& states,
+                                                              const C& constraints, const sequence_options& opt,
+                                                              const solve_limits& lim, F& progress) {
+    using entry = typename sequence_table<typename P::state>::entry;
+    std::vector<std::uint8_t> is_last(lim.pieces, opt.last_pieces.empty() ? 1 : 0);
+    for (std::size_t i : opt.last_pieces) is_last[i] = 1;
+    const std::size_t window = lim.window;
+    std::vector<double> kernel;  // exp(-d / sigma) for index distances d
+    if (window) {
+        kernel.resize(lim.pieces);
+        for (std::size_t d = 0; d < lim.pieces; ++d) kernel[d] = std::exp(-static_cast<double>(d) / opt.autocorrelation_sigma);
+    }
+    const double half_range = opt.offset_range / 2.0;
+    std::vector<candidate<typename P::cycle_summary>> candidates;
     std::vector<std::uint16_t> new_recent(window);
     std::vector<float> new_lags(window);
+    const std::uint64_t last_bucket = table.last_bucket();
     for (std::uint64_t bucket = 0; bucket <= last_bucket + 1; ++bucket) {
-        detail::index_table layer;
-        layer.swap(ring[bucket % ring_size]);
-        if (layer.size() == 0) continue;
-        pending_bytes -= layer.memory_bytes();
-        // Creation order (entry indices only grow): the deterministic processing order.
-        const std::vector<std::uint32_t> members = layer.indices();
-        layer = detail::index_table();
-        ++stats.layers;
-        update_peak();
+        const std::vector<std::uint32_t> members = table.take_layer(bucket);
+        if (members.empty()) continue;
+        table.update_peak(policy_bytes(states));
         report_progress(progress, std::min(1.0, static_cast<double>(bucket) / static_cast<double>(last_bucket + 1)),
                         "sequence DP");
         for (const std::uint32_t idx : members) {
-            const entry e = *entries[idx];  // copy: an improvement below may not alias it, but be safe
-            const double distance = std::abs(e.length - L);
-            if (distance <= eps_max) {
-                if (!opt.cyclic) {
-                    if (is_last[e.piece] && constraints.accept_open(states, e.state))
-                        candidates.push_back({idx, distance, e.total, e.cost, std::nullopt});
-                } else if (transitions.compatible(e.piece, e.first)) {
-                    if (auto z = states.close(e.state); z && constraints.accept_cycle(states, *z)) {
-                        const double closing = transitions.cost(e.piece, e.first);
-                        candidates.push_back({idx, distance, e.total + closing, e.cost + closing, *z});
-                    }
-                }
+            const entry e = table[idx];  // copy: an improvement below may not alias it, but be safe
+            const double distance = std::abs(e.length - lim.target);
+            if (distance <= lim.epsilon_max) {
+                auto c = opt.closed ? cycle_candidate(e, idx, distance, transitions, states, constraints)
+                                    : open_candidate(e, idx, distance, states, constraints, is_last);
+                if (c) candidates.push_back(std::move(*c));
             }
-            const std::uint16_t* history = window ? recent[idx] : nullptr;  // 0xffff = before the start
+            const std::uint16_t* history = window ? table.recent(idx) : nullptr;
             for (const successor& s : succ[e.piece]) {
-                if (opt.cyclic && s.piece < e.first) continue;  // cycles start at their smallest piece
+                if (opt.closed && s.piece < e.first) continue;  // cycles start at their smallest piece
                 const double length = e.length + widths[s.piece];
-                if (length > l_max) continue;
-                ++stats.transitions;
+                if (length > lim.longest) continue;
+                ++table.stats().transitions;
                 const double drift = static_cast<double>(e.drift) + s.offset;
-                if (!(std::abs(drift) < half_band)) continue;
-                std::optional<state_t> st = states.extend(e.state, s.piece);
+                if (!(std::abs(drift) < half_range)) continue;
+                std::optional<typename P::state> st = states.extend(e.state, s.piece);
                 if (!st || !constraints.viable(states, *st)) continue;
                 entry next{*st, e.cost + s.cost, e.cost + s.cost, length, static_cast<float>(drift),
                            static_cast<std::uint16_t>(s.piece), e.first, idx};
                 if (window) {
                     float a = 0.0f;
-                    const float* old = lags[idx];
+                    const float* old = table.lags(idx);
                     for (std::size_t lag = 1; lag <= window; ++lag) {
                         float v = old[lag - 1];
-                        if (history[lag - 1] != 0xffff) {
+                        if (history[lag - 1] != table.before_start) {
                             const std::uint32_t other = history[lag - 1];
                             v += static_cast<float>(kernel[other > s.piece ? other - s.piece : s.piece - other]);
                         }
                         new_lags[lag - 1] = v;
                         a = std::max(a, v);
                     }
-                    next.total = next.cost + beta * static_cast<double>(a);
+                    next.total = next.cost + lim.beta * static_cast<double>(a);
                 }
                 // Always a later layer, even if rounding put l + w in the bucket of l (w >= q).
-                const std::uint32_t at = offer(next, std::max(bucket_of(length), bucket + 1));
-                if (window && at != no_pred) {
-                    std::copy(new_lags.begin(), new_lags.end(), lags[at]);
+                const std::uint32_t at = table.offer(next, std::max(table.bucket_of(length), bucket + 1),
+                                                     static_cast<std::uint64_t>(states.hash(next.state)));
+                if (window && at != table.no_pred) {
+                    std::copy(new_lags.begin(), new_lags.end(), table.lags(at));
                     new_recent[0] = s.piece16;
                     std::copy(history, history + window - 1, new_recent.begin() + 1);
-                    std::copy(new_recent.begin(), new_recent.end(), recent[at]);
+                    std::copy(new_recent.begin(), new_recent.end(), table.recent(at));
                 }
             }
         }
     }
-    update_peak();
-    stats.candidates = candidates.size();
+    table.update_peak(policy_bytes(states));
+    table.stats().candidates = candidates.size();
+    return candidates;
+}
 
-    // ---- choose: smallest grown epsilon that admits a candidate, then the cheapest one
-    if (candidates.empty())
-        throw no_solution("sequence solver: no sequence of the " + std::to_string(n) +
-                          " pieces meets the constraints with a length within " + std::to_string(eps_max) +
-                          " mm of the target " + std::to_string(L) + " mm" +
-                          (opt.cyclic ? " as a closed loop" : ""));
+// ---- phase 4: epsilon growth and the choice
+
+/// The tolerance actually needed: epsilon grown by `growth` from eps0 until it admits the
+/// candidate nearest to the target, never beyond eps_max (§3.6.3).
+template <class Candidate>
+double grown_epsilon(const std::vector<Candidate>& candidates, double eps0, double eps_max, double growth) {
     double d_min = std::numeric_limits<double>::infinity();
-    for (const candidate& c : candidates) d_min = std::min(d_min, c.distance);
+    for (const Candidate& c : candidates) d_min = std::min(d_min, c.distance);
     double eps = eps0;
-    while (eps < d_min && eps < eps_max) eps = std::min(eps * opt.epsilon_growth, eps_max);
-    const candidate* best = nullptr;
-    for (const candidate& c : candidates) {
+    while (eps < d_min && eps < eps_max) eps = std::min(eps * growth, eps_max);
+    return eps;
+}
+
+/// The cheapest candidate within eps (ties: nearer to the target, then the first met); nullptr if none.
+template <class Candidate>
+const Candidate* cheapest_within(const std::vector<Candidate>& candidates, double eps) {
+    const Candidate* best = nullptr;
+    for (const Candidate& c : candidates) {
         if (c.distance > eps) continue;
         if (!best || c.total < best->total || (c.total == best->total && c.distance < best->distance)) best = &c;
     }
+    return best;
+}
+
+// ---- phase 5: backtracking
+
+/// The pieces eta_0..eta_N of the run ending at `last`, by following the back pointers.
+template <class State>
+std::vector<std::size_t> backtrack(const sequence_table<State>& table, std::uint32_t last) {
+    std::vector<std::size_t> pieces;
+    for (std::uint32_t k = last; k != table.no_pred; k = table[k].pred) pieces.push_back(table[k].piece);
+    std::reverse(pieces.begin(), pieces.end());
+    return pieces;
+}
+
+/// Accumulated optimal offsets Delta_i along a sequence (Delta_0 = 0).
+template <transition_cost_policy T>
+std::vector<double> accumulated_offsets(const std::vector<std::size_t>& pieces, const T& transitions) {
+    std::vector<double> offsets(pieces.size(), 0.0);
+    for (std::size_t i = 1; i < pieces.size(); ++i) offsets[i] = offsets[i - 1] + transitions.offset(pieces[i - 1], pieces[i]);
+    return offsets;
+}
+}  // namespace detail
+
+// ---------------------------------------------------------------------------------------------
+// The solver
+
+/// Solves the sequence problem described in the file comment.
+/// @param widths       n piece widths (mm), finite and > 0
+/// @param transitions  n x n compatibility, costs D and offsets tau
+/// @param states       state policy (mutable: it may memoise)
+/// @param constraints  constraint policy
+/// @param opt          target length, tolerances, offset range, autocorrelation, open/closed, limits
+/// @param progress     called with the fraction of the length range processed
+/// @throws invalid_input for malformed input or when the table would exceed opt.max_entries;
+///         no_solution when no sequence meets the constraints within epsilon_max of the target.
+template <transition_cost_policy T, sequence_state_policy P, class C, progress_callback F = no_progress>
+    requires sequence_constraint_policy<C, P>
+[[nodiscard]] sequence_result<typename P::state, typename P::cycle_summary> solve_sequence(
+    std::span<const double> widths, const T& transitions, P& states, const C& constraints,
+    const sequence_options& opt, F&& progress = {}) {
+    using table_t = detail::sequence_table<typename P::state>;
+    const detail::solve_limits lim = detail::check_inputs(widths, transitions, opt);
+    if constexpr (requires { constraints.validate(states); }) constraints.validate(states);  // e.g. contradictory targets
+    const auto succ = detail::successor_lists(transitions, lim.pieces);
+
+    table_t table(widths, lim, opt.max_entries);
+    detail::add_roots(table, widths, states, constraints, opt, lim);
+    const auto candidates = detail::fill_layers(table, widths, transitions, succ, states, constraints, opt, lim, progress);
+    if (candidates.empty())
+        throw no_solution("sequence solver: no sequence of the " + std::to_string(lim.pieces) +
+                          " pieces meets the constraints with a length within " + std::to_string(lim.epsilon_max) +
+                          " mm of the target " + std::to_string(lim.target) + " mm" + (opt.closed ? " as a closed sequence" : ""));
+
+    const double eps = detail::grown_epsilon(candidates, lim.epsilon, lim.epsilon_max, opt.epsilon_growth);
+    const auto* best = detail::cheapest_within(candidates, eps);
     FABSYNTH_ASSERT(best != nullptr);
 
-    // ---- backtrack
-    sequence_result<state_t, typename P::cycle_summary> r;
-    for (std::uint32_t k = best->index; k != no_pred; k = entries[k]->pred) r.pieces.push_back(entries[k]->piece);
-    std::reverse(r.pieces.begin(), r.pieces.end());
-    r.offsets.assign(r.pieces.size(), 0.0);
-    for (std::size_t i = 1; i < r.pieces.size(); ++i)
-        r.offsets[i] = r.offsets[i - 1] + transitions.offset(r.pieces[i - 1], r.pieces[i]);
-    const entry& last = *entries[best->index];
+    sequence_result<typename P::state, typename P::cycle_summary> r;
+    r.pieces = detail::backtrack(table, best->index);
+    r.offsets = detail::accumulated_offsets(r.pieces, transitions);
+    const auto& last = table[best->index];
     r.cost = best->cost;
     r.penalty = best->total - best->cost;
     r.length = last.length;
     r.epsilon = eps;
     r.state = last.state;
     r.cycle = best->cycle;
-    r.stats = stats;
+    r.stats = table.stats();
     return r;
 }
 

@@ -17,6 +17,7 @@
 ///   fabsynth::vector_pattern::exemplar ex = fabsynth::vector_pattern::exemplar_from_svg(doc);
 ///   ex.components();  // 1
 ///   ex.holes();       // 6
+///   auto band = fabsynth::vector_pattern::scaled(ex, 10.0 / ex.height());  // 10 mm high
 #include <cmath>
 #include <concepts>
 #include <cstddef>
@@ -140,6 +141,23 @@ inline std::string shape_name(const exemplar_shape& s, std::size_t i) {
     ex.polygons = std::move(nested);
     for (const auto& p : ex.polygons) ex.bounds.extend(bounding_box(p.outer));
     return ex;
+}
+
+/// The exemplar scaled about the origin by s > 0 (mm per input unit; e.g. to a band height H:
+/// s = H / ex.height()). A similarity with a positive factor, so simple rings stay simple and
+/// orientations are kept; `repaired` is carried over. Throws invalid_input unless s is finite and > 0.
+[[nodiscard]] inline exemplar scaled(const exemplar& ex, double s) {
+    if (!(std::isfinite(s) && s > 0.0)) throw invalid_input("exemplar scaled: the factor must be finite and > 0, got " + std::to_string(s));
+    exemplar out = ex;
+    auto scale_ring = [s](ring2& r) {
+        for (vec2& p : r) p *= s;
+    };
+    for (auto& p : out.polygons) {
+        scale_ring(p.outer);
+        for (ring2& h : p.holes) scale_ring(h);
+    }
+    out.bounds = box2(ex.bounds.lo * s, ex.bounds.hi * s);
+    return out;
 }
 
 /// What exemplar_from_svg reads from a document: `shapes`, each with `subpaths`, `closed`, `rule`,

@@ -3,7 +3,7 @@
 ///
 /// Pieces eta_0..eta_N are placed side by side along the band; piece i slides across the band by
 /// delta_i. Junction k joins piece k to piece k+1 (and, on a closed curve, junction N joins piece N
-/// back to piece 0). tau_k is the junction's optimal relative offset (dp::match_portals: aligning the
+/// back to piece 0). tau_k is the junction's optimal relative offset (match_portals, portal_cost.hpp: aligning the
 /// left portal endpoints of the right piece on the right ones of the left piece) and w_k its weight
 /// (the paper: the number of portal endpoints M_r of the left piece). The offsets minimise
 ///

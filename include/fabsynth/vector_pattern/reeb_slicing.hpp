@@ -15,10 +15,10 @@
 /// 5. §5.2.1: cuts whose narrowest portal is thinner than `min_portal_width` are dropped.
 ///
 /// About the grouping distance: the paper uses 0.2 W (W = exemplar width, "experimentally
-/// determined"), the default here. On a long periodic band (the bundled data are 6-12 periods
-/// wide) events of neighbouring periods are closer than 0.2 W and chain into one group, leaving no
-/// cut; pass a smaller `group_fraction` or an absolute `group_distance` (e.g. a fraction of the
-/// period) for such bands.
+/// determined"), the default here. On a long band repeating one motif (the bundled data repeat
+/// theirs 6-12 times) events of neighbouring repeats are closer than 0.2 W and chain into one
+/// group, leaving no cut; pass a smaller `group_fraction` or an absolute `group_distance` (e.g. a fraction of the
+/// motif's width) for such bands.
 ///
 /// Usage:
 ///   auto r = fabsynth::vector_pattern::reeb_slicing(ex, {.group_distance = 5.0, .min_portal_width = 1.0});
