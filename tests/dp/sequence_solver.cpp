@@ -205,7 +205,7 @@ void run_random_instances(bool closed, std::uint64_t seed, int count) {
         CHECK(std::abs(r.length - in.opt.target_length) <= r.epsilon);
         if (closed) {
             REQUIRE(r.cycle);
-            if (in.want.closed_loop) CHECK(r.cycle->closed());
+            if (in.want.closed_loop) CHECK(r.cycle->winds());
         }
         ++solved;
     }
@@ -337,14 +337,14 @@ TEST_CASE("closed curves: rings, contradictory targets and loops that cannot clo
     CHECK(ring.pieces == std::vector<std::size_t>(6, 0));
     CHECK(ring.cost == 3.0);  // six transitions including the closing one
     REQUIRE(ring.cycle);
-    CHECK(ring.cycle->closed());
+    CHECK(ring.cycle->winds());
     CHECK(ring.cycle->holes == 0);
     // Beads (arch pairs make little rings): six beads, each with a hole, none going around.
     const auto beads = dp::solve_sequence(widths, t, policy, topo::constraints{.components = 6}, opt);
     CHECK(beads.pieces == std::vector<std::size_t>(6, 1));
     CHECK(beads.cycle->components == 6);
     CHECK(beads.cycle->holes == 6);
-    CHECK_FALSE(beads.cycle->closed());
+    CHECK_FALSE(beads.cycle->winds());
     // Contradictory: 6 components and a closed loop.
     CHECK_THROWS_AS(dp::solve_sequence(widths, t, policy, topo::constraints{.components = 6, .closed_loop = true}, opt),
                     fabsynth::no_solution);

@@ -76,14 +76,14 @@ TEST_CASE("Fig. 5: equal component counts, different descriptors, different resu
 TEST_CASE("Fig. 6: closing a loop tells a ring from a merely connected pattern", "[topology]") {
     // Top: component 0 runs from the left end to the right end: closing makes a ring.
     const loop_closure top = close_loop(descriptor({0, 1}, {0, 2}));
-    CHECK(top.closed());
+    CHECK(top.winds());
     CHECK(top.rings == 1);
     CHECK(top.components == 2);
     CHECK(top.holes == 0);
     // Bottom: the diagonal strand (id 1) meets stubs on the other side of the seam: one component,
     // connected from start to end, but it does not go around: not closed.
     const loop_closure bottom = close_loop(descriptor({0, 1}, {1, 2}));
-    CHECK_FALSE(bottom.closed());
+    CHECK_FALSE(bottom.winds());
     CHECK(bottom.components == 1);
     CHECK(bottom.holes == 0);
     // Two parallel rails: two rings, no hole inside the band.

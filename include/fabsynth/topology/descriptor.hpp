@@ -183,8 +183,9 @@ struct loop_closure {
     std::uint32_t components = 0;  ///< connected components of the whole loop
     std::uint32_t holes = 0;       ///< holes inside the band (not counting the openings a ring surrounds)
     std::uint32_t rings = 0;       ///< components that wind once around the loop
-    /// True iff the pattern is closed: some component goes all the way around (Fig. 6, top).
-    [[nodiscard]] bool closed() const noexcept { return rings > 0; }
+    /// True iff some component winds all the way around the loop (Fig. 6, top): what the
+    /// vector-pattern API calls `closed_loop` (a closed *curve* is just `closed`).
+    [[nodiscard]] bool winds() const noexcept { return rings > 0; }
     friend bool operator==(const loop_closure&, const loop_closure&) = default;
 };
 
@@ -392,7 +393,7 @@ struct constraints {
     }
     [[nodiscard]] bool accept_cycle(const descriptor_policy&, const loop_closure& c) const {
         return (!components || c.components == *components) && (!holes || c.holes == *holes) &&
-               (!closed_loop || c.closed());
+               (!closed_loop || c.winds());
     }
 };
 
