@@ -1,8 +1,9 @@
 # Every public header of the listed modules compiles on its own (-fsyntax-only, one header per
 # translation unit). Run by ctest as `headers`:
-#   cmake -DCXX=<compiler> -DINCLUDE=<repo>/include -DMODULES="graph;core" -DWORK_DIR=<dir> -P check_headers.cmake
+#   cmake -DCXX=<compiler> -DINCLUDE=<repo>/include -DMODULES=core,graph -DWORK_DIR=<dir> -P check_headers.cmake
+string(REPLACE "," ";" _modules "${MODULES}")
 set(_headers "")
-foreach(_m IN LISTS MODULES)
+foreach(_m IN LISTS _modules)
   file(GLOB _h ${INCLUDE}/fabsynth/${_m}/*.hpp)
   list(APPEND _headers ${_h})
   if(EXISTS ${INCLUDE}/fabsynth/${_m}.hpp)
