@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/union_find.hpp"
 #include "fabsynth/fem/assembly.hpp"
 #include "fabsynth/fem/boundary.hpp"
 #include "fabsynth/fem/mesh.hpp"
@@ -123,17 +124,10 @@ inline std::string dof_label(const mesh& m, const dof_map& dofs, std::size_t g) 
 /// mechanisms (hinges) are caught later by the pivot and residual checks.
 inline void check_supports(const mesh& m, const dof_map& dofs, const load_case& lc) {
     const std::size_t nn = m.nodes.size();
-    std::vector<std::uint32_t> parent(nn);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
+    union_find parts_of_nodes(nn);
+    auto find = [&](std::uint32_t x) { return parts_of_nodes.find(x); };
     for (const element& e : m.elements)
-        for (int a = 1; a < num_nodes(e.kind); ++a) {
-            const std::uint32_t r0 = find(e.nodes[0]), r1 = find(e.nodes[a]);
-            if (r0 != r1) parent[std::max(r0, r1)] = std::min(r0, r1);
-        }
+        for (int a = 1; a < num_nodes(e.kind); ++a) parts_of_nodes.unite(e.nodes[0], e.nodes[a]);
     std::vector<std::pair<std::uint32_t, int>> fixed;
     for (const auto& f : lc.fixed) fixed.emplace_back(f.node, f.dof);
     std::sort(fixed.begin(), fixed.end());

@@ -21,10 +21,10 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <numeric>
 #include <string>
 #include <vector>
 
+#include "fabsynth/core/union_find.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 
 namespace fabsynth {
@@ -52,18 +52,6 @@ struct mesh_topology_info {
 };
 
 namespace detail {
-struct union_find {
-    std::vector<std::uint32_t> parent;
-    explicit union_find(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    std::uint32_t find(std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a), b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);  // smallest id is the root
-    }
-};
 /// Directed half-edges (from, to) of all non-degenerate faces sorted by undirected key.
 struct half_edge {
     std::uint64_t key;  // (min << 32) | max
@@ -79,7 +67,7 @@ struct half_edge {
         for (auto v : m.faces[f])
             if (v >= m.vertices.size())
                 throw invalid_input("mesh topology: face " + std::to_string(f) + " indexes missing vertex " + std::to_string(v));
-    detail::union_find uf(m.vertices.size());
+    union_find uf(m.vertices.size());
     for (const auto& t : m.faces) uf.unite(t[0], t[1]), uf.unite(t[1], t[2]);
     std::vector<std::uint32_t> label(m.vertices.size(), UINT32_MAX), out(m.faces.size());
     std::uint32_t n = 0;
@@ -112,7 +100,7 @@ struct half_edge {
     info.vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), std::uint8_t{1}));
     std::sort(he.begin(), he.end());
     // boundary half-edges, for loop counting: union their endpoints
-    detail::union_find loops(m.vertices.size());
+    union_find loops(m.vertices.size());
     std::vector<std::uint8_t> on_boundary(m.vertices.size(), 0);
     for (std::size_t i = 0; i < he.size();) {
         std::size_t j = i;

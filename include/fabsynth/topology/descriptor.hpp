@@ -41,7 +41,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/rng.hpp"
-#include "fabsynth/topology/detail/union_find.hpp"
+#include "fabsynth/core/union_find.hpp"
 
 namespace fabsynth::topology {
 
@@ -153,7 +153,7 @@ private:
                             " portals on its right side but the right pattern has " + std::to_string(bl.size()) +
                             " on its left side");
     const std::size_t na = a.open_components(), nb = b.open_components();
-    detail::potential_union_find uf(na + nb);
+    potential_union_find uf(na + nb);
     std::uint64_t holes = std::uint64_t{a.holes()} + b.holes();
     for (std::size_t k = 0; k < ar.size(); ++k)
         if (uf.link(ar[k], static_cast<std::uint32_t>(na + bl[k]))) ++holes;  // same component: a hole closes
@@ -205,7 +205,7 @@ struct loop_closure {
         throw invalid_input("topology loop closing: the pattern has " + std::to_string(l.size()) +
                             " portals on its left side but " + std::to_string(r.size()) + " on its right side");
     const std::size_t n = d.open_components();
-    detail::potential_union_find uf(n);
+    potential_union_find uf(n);
     std::uint64_t self_glues = 0;
     for (std::size_t k = 0; k < l.size(); ++k)
         if (uf.link(r[k], l[k], 1)) ++self_glues;  // crossing the seam moves one turn around the loop

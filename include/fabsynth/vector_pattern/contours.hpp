@@ -13,7 +13,7 @@
 /// band_topology() counts components and holes of the polygons. On a closed band the two ends are
 /// glued: the cuts at u = 0 and u = L must be identical (same v intervals, else solver_error), every
 /// pair of matching cut segments glues the polygon at u = L to the polygon at u = 0, and a union-find
-/// with winding potentials (topology/detail/union_find.hpp) tells components that wind around the
+/// with winding potentials (core/union_find.hpp) tells components that wind around the
 /// loop (rings). holes = holes of the polygons + glues closing a cycle - rings, the convention of
 /// topology::close_loop (the region a ring surrounds is not a hole of the band).
 ///
@@ -30,7 +30,7 @@
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/polygon.hpp"
 #include "fabsynth/vector_pattern/pieces.hpp"
-#include "fabsynth/topology/detail/union_find.hpp"
+#include "fabsynth/core/union_find.hpp"
 
 namespace fabsynth::vector_pattern {
 
@@ -127,7 +127,7 @@ struct band_counts {
     if (at0.size() != atL.size())
         throw solver_error("band topology: the closed pattern is cut in " + std::to_string(at0.size()) + " segments at u = 0 but " +
                            std::to_string(atL.size()) + " at u = L");
-    topology::detail::potential_union_find uf(polys.size());
+    potential_union_find uf(polys.size());
     std::uint64_t self_glues = 0;
     for (std::size_t k = 0; k < at0.size(); ++k) {
         if (at0[k].top != atL[k].top || at0[k].bottom != atL[k].bottom)

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/union_find.hpp"
 
 namespace fabsynth::vector_pattern {
 
@@ -63,17 +64,13 @@ namespace fabsynth::vector_pattern {
     if (m == 0) return delta;
 
     // Blocks of pieces tied by weighted junctions; a block holding no fixed piece floats.
-    std::vector<std::size_t> parent(n);
-    for (std::size_t i = 0; i < n; ++i) parent[i] = i;
-    auto find = [&](std::size_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
+    union_find blocks(n);
+    auto find = [&](std::size_t x) { return blocks.find(static_cast<union_find::id>(x)); };
     auto junction = [&](std::size_t k) { return std::pair<std::size_t, std::size_t>{k, (k + 1) % n}; };
     for (std::size_t k = 0; k < tau.size(); ++k)
         if (weight[k] > 0.0) {
             auto [a, b] = junction(k);
-            parent[find(a)] = find(b);
+            blocks.unite(static_cast<union_find::id>(a), static_cast<union_find::id>(b));
         }
     std::vector<char> anchored(n, 0);
     for (std::size_t i = 0; i < n; ++i)
