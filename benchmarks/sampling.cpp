@@ -56,21 +56,13 @@ void BM_PoissonDiskOneRadius(benchmark::State& state) {
 // The filigree leaf's outline: union of the strokes (round caps and joins) as polygons with holes.
 fabsynth::polygon_with_holes leaf_outline() {
     const auto doc = fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/filigree/leaf.svg", {.tolerance = 0.01});
-    const auto grid = fabsynth::clip_grid::for_bounds(doc.bounds().inflated(5.0));
-    ClipperLib::ClipperOffset offset(2.0, 0.01 * grid.scale);  // arcs to 0.01 mm
     double half_width = 0.5;
+    std::vector<std::vector<fabsynth::vec2>> lines;
     for (const auto& s : doc.shapes) {
         half_width = 0.5 * s.stroke_width;
-        for (const auto& sp : s.subpaths) {
-            ClipperLib::Path path;
-            for (const auto& p : sp) path.push_back(grid.to_int(p));
-            offset.AddPath(path, ClipperLib::jtRound, ClipperLib::etOpenRound);
-        }
+        lines.insert(lines.end(), s.subpaths.begin(), s.subpaths.end());
     }
-    ClipperLib::PolyTree tree;
-    offset.Execute(tree, half_width * grid.scale);
-    std::vector<fabsynth::polygon_with_holes> polys;
-    for (const ClipperLib::PolyNode* outer : tree.Childs) fabsynth::detail::clip::collect(*outer, grid, polys);
+    const auto polys = fabsynth::stroke_outline(lines, half_width, 0.01);  // arcs to 0.01 mm
     std::size_t best = 0;
     for (std::size_t i = 1; i < polys.size(); ++i)
         if (fabsynth::area(polys[i]) > fabsynth::area(polys[best])) best = i;

@@ -240,23 +240,15 @@ TEST_CASE("medial axis of a wavy strip with a hole: half-widths are the boundary
 TEST_CASE("medial axis of the bundled filigree elements (stroke outlines)", "[geometry][medial_axis]") {
     for (const char* name : {"c_scroll", "heart_curls", "leaf", "s_curl", "spiral"}) {
         INFO(name);
-        // Outline of the strokes: a Clipper round offset of the open polylines by half the width.
+        // Outline of the strokes: a round offset of the open polylines by half the width.
         const auto doc = fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/filigree/" + name + ".svg", {.tolerance = 0.01});
-        const auto grid = fabsynth::clip_grid::for_bounds(doc.bounds().inflated(5.0));
-        ClipperLib::ClipperOffset offset(2.0, 0.01 * grid.scale);
         double half = 0.5;
+        std::vector<std::vector<vec2>> lines;
         for (const auto& s : doc.shapes) {
             half = 0.5 * s.stroke_width;
-            for (const auto& sp : s.subpaths) {
-                ClipperLib::Path path;
-                for (const vec2& p : sp) path.push_back(grid.to_int(p));
-                offset.AddPath(path, ClipperLib::jtRound, ClipperLib::etOpenRound);
-            }
+            lines.insert(lines.end(), s.subpaths.begin(), s.subpaths.end());
         }
-        ClipperLib::PolyTree tree;
-        offset.Execute(tree, half * grid.scale);
-        std::vector<polygon_with_holes> polys;
-        for (const ClipperLib::PolyNode* outer : tree.Childs) fabsynth::detail::clip::collect(*outer, grid, polys);
+        const auto polys = fabsynth::stroke_outline(lines, half, 0.01);
         REQUIRE_FALSE(polys.empty());
         for (const auto& poly : polys) {
             const auto sk = fabsynth::medial_axis(poly, {.flattening_tolerance = 0.01, .prune_length = 1.0});

@@ -228,6 +228,36 @@ inline std::vector<polygon_with_holes> binary(clip_op op, const std::vector<poly
     return detail::clip::binary(clip_op::xor_, a, b, grid);
 }
 
+/// Outline of open polylines stroked with round caps and joins: the union of all discs of radius
+/// `half_width` (mm) centred on the polylines (a filigree strip, an SVG stroke). Arcs are
+/// flattened to `arc_tolerance` (mm, > 0). Throws invalid_input for a non-finite or non-positive
+/// width or tolerance, or non-finite points.
+[[nodiscard]] inline std::vector<polygon_with_holes> stroke_outline(const std::vector<std::vector<vec2>>& polylines,
+                                                                    double half_width, double arc_tolerance = 0.01) {
+    if (!(std::isfinite(half_width) && half_width > 0)) throw invalid_input("stroke_outline: half width must be finite and > 0");
+    if (!(std::isfinite(arc_tolerance) && arc_tolerance > 0))
+        throw invalid_input("stroke_outline: arc tolerance must be finite and > 0");
+    box2 b;
+    for (const auto& line : polylines)
+        for (const vec2& p : line) {
+            if (!all_finite(p)) throw invalid_input("stroke_outline: a polyline point is not finite");
+            b.extend(p);
+        }
+    if (b.empty()) return {};
+    const clip_grid grid = clip_grid::for_bounds(box2(b.lo - vec2(2 * half_width), b.hi + vec2(2 * half_width)));
+    ClipperLib::ClipperOffset offset(2.0, arc_tolerance * grid.scale);
+    for (const auto& line : polylines) {
+        ClipperLib::Path path;
+        for (const vec2& p : line) path.push_back(grid.to_int(p));
+        offset.AddPath(path, ClipperLib::jtRound, ClipperLib::etOpenRound);
+    }
+    ClipperLib::PolyTree tree;
+    offset.Execute(tree, half_width * grid.scale);
+    std::vector<polygon_with_holes> out;
+    for (const ClipperLib::PolyNode* outer : tree.Childs) detail::clip::collect(*outer, grid, out);
+    return out;
+}
+
 /// The part of `polys` with x0 <= x <= x1 (x0, x1 rounded to the grid; the strip reaches past the
 /// shape in y). Throws invalid_input unless x0 < x1 are finite.
 [[nodiscard]] inline std::vector<polygon_with_holes> clip_strip(const std::vector<polygon_with_holes>& polys, double x0,
