@@ -12,8 +12,8 @@
 // watertight slab tessellated in the parameter domain (geometry/extrude.hpp, §6.3).
 // Outputs: OUT.svg (filled shapes only), OUT.stl (T mm thick, the SVG's y axis flipped so the print
 // looks like the drawing), OUT.png (preview, pattern dark on white: vector_pattern/preview.hpp). Nothing is written unless
-// everything succeeded; an impossible request exits with status 1 and the reason on stderr.
-#include <CLI/CLI.hpp>
+// everything succeeded; an impossible request exits with status 3 and the reason on stderr.
+// Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
 
 #include <fabsynth/geometry/curve.hpp>
 #include <fabsynth/geometry/extrude.hpp>
@@ -37,6 +37,8 @@
 #include <utility>
 #include <vector>
 
+#include "tool.hpp"
+
 namespace fs = std::filesystem;
 using namespace fabsynth;
 
@@ -47,7 +49,9 @@ int main(int argc, char** argv) {
         "less than --height/2, so the pattern stays within --height of the curve. Writes OUT.svg (filled shapes),\n"
         "OUT.stl (extruded, watertight) and OUT.png (preview) side by side. Holes count holes of the pattern\n"
         "glued along the band; on a closed curve a loop around the curve (--closed-loop) also encloses the\n"
-        "curve's inside, which the drawing shows as one more enclosed region."};
+        "curve's inside, which the drawing shows as one more enclosed region.",
+        "curve_patterns"};
+    tool::common common(app);
     std::string exemplar_path, curve_path, out_path, slicing = "reeb";
     std::optional<double> line_length, circle_radius;
     std::vector<double> rect;
@@ -74,9 +78,9 @@ int main(int argc, char** argv) {
     app.add_option("--slicing", slicing, "exemplar slicing: reeb (topology-driven, §5.2) or uniform (§5.1)")->capture_default_str();
     app.add_option("--beta", beta, "autocorrelation penalty weight (§3.7), 0 = off")->capture_default_str();
     app.add_option("-o,--output", out_path, "output SVG; OUT.stl and OUT.png are written beside it")->required();
-    CLI11_PARSE(app, argc, argv);
 
-    try {
+    return tool::run(app, common, argc, argv, [&] {
+        auto progress = common.progress();
         const int shapes_given = !curve_path.empty() + line_length.has_value() + circle_radius.has_value() + !rect.empty();
         if (shapes_given != 1) throw invalid_input("give exactly one of --curve, --line, --circle, --rect");
         require_positive(height, "--height");
@@ -88,6 +92,7 @@ int main(int argc, char** argv) {
         if (slicing != "reeb" && slicing != "uniform") throw invalid_input("--slicing must be reeb or uniform, got '" + slicing + "'");
 
         // Exemplar, scaled to the band height.
+        progress(0.0, "read exemplar");
         const vector_pattern::exemplar raw = vector_pattern::exemplar_from_svg(io::read_svg(exemplar_path));
         if (!(raw.height() > 0.0)) throw invalid_input(exemplar_path + ": the exemplar has no height");
         const vector_pattern::exemplar ex = vector_pattern::scaled(raw, height / raw.height());
@@ -101,6 +106,7 @@ int main(int argc, char** argv) {
         so.beta = beta;
         so.slicing = slicing == "uniform" ? vector_pattern::slicing_method::uniform : vector_pattern::slicing_method::reeb;
 
+        progress(0.1, "synthesis");
         vector_pattern::synthesis_result res;
         std::vector<polygon_with_holes> drawn;  // output shapes in the plane (SVG user units = mm)
         triangle_mesh mesh;
@@ -149,15 +155,10 @@ int main(int argc, char** argv) {
             mesh = extrude_along_curve(res.polygons, *curve, {.thickness = thickness, .chord_tolerance = tolerance});
             what += " of length " + std::to_string(curve->length());
         }
-        // STL in a y-up frame (the SVG is y-down): mirror y and flip the faces to stay outward.
-        for (vec3& p : mesh.vertices) p.y = -p.y;
-        for (auto& f : mesh.faces) std::swap(f[1], f[2]);
+        progress(0.8, "mesh");
+        mirror_y(mesh);  // STL in a y-up frame (the SVG is y-down)
         weld_to_float(mesh);
-        const mesh_topology_info mesh_topo = analyze_topology(mesh);
-        if (!mesh_topo.is_watertight())
-            throw solver_error("the extruded mesh is not watertight after rounding to single precision (" +
-                               std::to_string(mesh_topo.boundary_edges) + " boundary, " + std::to_string(mesh_topo.nonmanifold_edges) +
-                               " non-manifold edges)");
+        require_watertight(mesh, "the extruded mesh, rounded to single precision,");
 
         const box2 bounds = bounding_box(drawn);
         if (bounds.empty()) throw solver_error("the synthesized pattern is empty");
@@ -173,6 +174,7 @@ int main(int argc, char** argv) {
         fs::path stl_out = svg_out, png_out = svg_out;
         stl_out.replace_extension(".stl");
         png_out.replace_extension(".png");
+        progress(0.9, "write");
         if (!svg_out.parent_path().empty()) fs::create_directories(svg_out.parent_path());
         io::write_svg(svg_out, doc);
         io::write_stl(stl_out, mesh);
@@ -180,17 +182,23 @@ int main(int argc, char** argv) {
 
         std::size_t rings = 0;
         for (const auto& p : drawn) rings += 1 + p.holes.size();
-        std::printf("%s: %s, exemplar %s scaled to height %g\n", svg_out.string().c_str(), what.c_str(), exemplar_path.c_str(), height);
-        std::printf("pieces: %zu input, %zu in result; DP %.3f s (%zu entries, %.1f MB)\n", res.input_pieces, res.sequence.size(),
-                    res.dp_seconds, res.dp_entries, static_cast<double>(res.dp_peak_bytes) / (1024.0 * 1024.0));
-        std::printf("topology: %u components, %u holes; %zu rings drawn; STL %zu triangles, %g mm thick\n", res.components,
-                    res.holes, rings, mesh.faces.size(), thickness);
-    } catch (const fabsynth::error& e) {
-        std::cerr << "curve_patterns: " << e.what() << "\n";
-        return 1;
-    } catch (const std::exception& e) {
-        std::cerr << "curve_patterns: " << e.what() << "\n";
-        return 1;
-    }
-    return 0;
+        progress(1.0, "write");
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "%s: %s, exemplar %s scaled to height %g\npieces: %zu input, %zu in result; DP %.3f s (%zu entries, %.1f MB)\n"
+                      "topology: %u components, %u holes; %zu rings drawn; STL %zu triangles, %g mm thick",
+                      svg_out.string().c_str(), what.c_str(), exemplar_path.c_str(), height, res.input_pieces, res.sequence.size(),
+                      res.dp_seconds, res.dp_entries, static_cast<double>(res.dp_peak_bytes) / (1024.0 * 1024.0), res.components,
+                      res.holes, rings, mesh.faces.size(), thickness);
+        common.say(line);
+        common.summary({{"shape", what},
+                        {"components", res.components},
+                        {"holes", res.holes},
+                        {"input_pieces", res.input_pieces},
+                        {"result_pieces", res.sequence.size()},
+                        {"rings", rings},
+                        {"dp_seconds", res.dp_seconds},
+                        {"stl_triangles", mesh.faces.size()},
+                        {"outputs", {svg_out.string(), stl_out.string(), png_out.string()}}});
+    });
 }

@@ -187,3 +187,26 @@ TEST_CASE("homogenize follows the tool convention", "[cli][homogenize]") {
     CHECK(j.at("volume_fraction").get<double>() == Approx(1.0));
     CHECK(j.at("C").size() == 6);
 }
+
+TEST_CASE("curve_patterns follows the tool convention", "[cli][curve_patterns]") {
+    const std::string vec = (data_dir / "vector").string();
+    const std::string out = (work_dir / "cp_out.svg").string();
+    fs::remove(out);
+    for (const cli_case& c : std::vector<cli_case>{
+             {"missing exemplar", {"--exemplar", (work_dir / "none.svg").string(), "--line", "100", "--height", "10", "-o", out}, 2, "none.svg"},
+             {"NaN height", {"--exemplar", vec + "/greek_key.svg", "--line", "100", "--height", "nan", "-o", out}, 2, "height"},
+             {"two shapes", {"--exemplar", vec + "/greek_key.svg", "--line", "100", "--circle", "10", "--height", "10", "-o", out}, 2, ""},
+             {"impossible topology",
+              {"--exemplar", vec + "/zigzag.svg", "--line", "100", "--height", "10", "--components", "1", "--holes", "3", "-o", out}, 3, ""},
+         })
+        check_case("curve_patterns", c);
+    CHECK_FALSE(fs::exists(out));
+    check_common("curve_patterns", {"--exemplar", vec + "/zigzag.svg", "--line", "100", "--height", "10", "--components", "1", "--holes", "3", "-o", out}, 3);
+
+    const result ok = run("curve_patterns", {"--exemplar", vec + "/greek_key.svg", "--line", "120", "--height", "10", "--components", "1", "-o", out, "--json"});
+    REQUIRE(ok.code == 0);
+    const json j = json::parse(ok.out);
+    CHECK(j.at("components") == 1);
+    CHECK(j.at("outputs").size() == 3);
+    for (const auto& p : j.at("outputs")) CHECK(fs::exists(p.get<std::string>()));
+}

@@ -6,6 +6,7 @@
 ///   double v = fabsynth::signed_volume(m);   // > 0 for a closed, outward-oriented mesh
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "fabsynth/core/box.hpp"
@@ -64,6 +65,13 @@ inline void validate(const triangle_mesh& m, const char* what = "mesh") {
             if (v >= m.vertices.size())
                 throw invalid_input(std::string(what) + ": face " + std::to_string(f) + " indexes missing vertex " +
                                     std::to_string(v));
+}
+
+/// Mirrors the mesh in y (y -> -y) and reverses every face, so outward faces stay outward (an SVG
+/// drawing is y-down; a print of it is y-up).
+inline void mirror_y(triangle_mesh& m) noexcept {
+    for (vec3& p : m.vertices) p.y = -p.y;
+    for (auto& f : m.faces) std::swap(f[1], f[2]);
 }
 
 }  // namespace fabsynth

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "fabsynth/core/error.hpp"
 #include "fabsynth/core/union_find.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 
@@ -133,5 +134,14 @@ struct half_edge {
 [[nodiscard]] inline std::size_t count_boundary_edges(const triangle_mesh& m) { return analyze_topology(m).boundary_edges; }
 /// Closed, edge-manifold, consistently oriented, no degenerate faces, at least one face.
 [[nodiscard]] inline bool is_watertight(const triangle_mesh& m) { return analyze_topology(m).is_watertight(); }
+
+/// Throws solver_error naming `what` and the counts of boundary and non-manifold edges unless m is
+/// watertight (for results that must be printable; a failure here is a bug of the producer).
+inline void require_watertight(const triangle_mesh& m, const std::string& what) {
+    const mesh_topology_info t = analyze_topology(m);
+    if (!t.is_watertight())
+        throw solver_error(what + " is not watertight (" + std::to_string(t.boundary_edges) + " boundary, " +
+                           std::to_string(t.nonmanifold_edges) + " non-manifold edges)");
+}
 
 }  // namespace fabsynth
