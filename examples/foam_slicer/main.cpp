@@ -22,8 +22,6 @@
 #include <CLI/CLI.hpp>
 
 #include <fabsynth/foam.hpp>
-#include <fabsynth/foam/field_adaptors.hpp>
-#include <fabsynth/foam/frame_mesh.hpp>
 #include <fabsynth/geometry/distance.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
