@@ -226,22 +226,15 @@ int main(int argc, char** argv) {
 
         fs::create_directories(out_dir);
         const box3 bb = bounding_box(mesh);
-        if (layer <= 0) layer = pixel;
-        require_positive(pixel, "--pixel");
-        const box2 region(vec2(bb.lo.x, bb.lo.y) - vec2(pixel), vec2(bb.hi.x, bb.hi.y) + vec2(pixel));
-        const int layers = std::max(1, static_cast<int>(std::floor(bb.size().z / layer)));
-        std::vector<int> which;
-        if (nslices > 0) {
-            for (int s = 0; s < nslices; ++s) which.push_back(static_cast<int>((s + 0.5) * layers / nslices));
-        } else {
-            for (int s = 0; s < layers; ++s) which.push_back(s);
-        }
+        const slice_stack stack = plan_slice_stack(bb, pixel, layer, nslices);
+        const box2& region = stack.region;
+        const std::vector<int>& which = stack.selected;
         const slice_options so{.supersample = supersample};
         std::uint64_t pixels = 0, solid = 0;
         double total_ms = 0;
         std::vector<image8> preview;
         for (std::size_t s = 0; s < which.size(); ++s) {
-            const double z = bb.lo.z + (which[s] + 0.5) * layer;
+            const double z = stack.z(which[s]);
             const auto t0 = std::chrono::steady_clock::now();
             const image8 img = obj.slice(z, region, pixel, so);
             total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

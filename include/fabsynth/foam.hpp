@@ -16,3 +16,4 @@
 #include "fabsynth/foam/frame.hpp"
 #include "fabsynth/foam/frame_mesh.hpp"
 #include "fabsynth/foam/seeds.hpp"
+#include "fabsynth/foam/slice_stack.hpp"
