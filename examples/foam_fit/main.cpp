@@ -20,13 +20,32 @@
 // prints one line per sample (stderr) and a summary (stdout). Exit code 1 on error.
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
+#include <string>
+#include <vector>
 
-#include "foam_fit.hpp"
+#include <fabsynth/core/parallel.hpp>
+#include <fabsynth/foam/elasticity_study.hpp>
+#include <fabsynth/foam/elasticity_text.hpp>
+#include <fabsynth/io/detail/atomic_file.hpp>
+#include <fabsynth/io/image.hpp>
+
 #include "plot.hpp"
 
 namespace {
+// The sample cache file, if it exists (an absent cache is an empty one).
+fabsynth::foam::sample_cache read_cache(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return {};
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return fabsynth::foam::parse_sample_cache(ss.str(), path);
+}
+
 std::vector<double> parse_list(const std::string& s, const char* what) {
     std::vector<double> v;
     std::stringstream ss(s);
@@ -46,7 +65,8 @@ std::vector<double> parse_list(const std::string& s, const char* what) {
 int main(int argc, char** argv) {
     using namespace fabsynth;
     CLI::App app{"Homogenize periodic procedural Voronoi foams over a (rho, tau) grid and fit E = P(rho, tau)"};
-    foam_fit::config c;
+    foam::elasticity_fit_config c;
+    std::string csv_path, header_path, plot_path, cache_path;
     std::string taus = "0.2,0.225,0.25,0.275,0.3", pairs;
     std::vector<double> fraction{0.002, 0.2};
     int rho_count = 4;
@@ -67,12 +87,12 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"relative", "absolute"}))
         ->capture_default_str();
     app.add_option("--threads", threads, "worker threads (0 = all cores); results do not depend on it")->capture_default_str();
-    app.add_option("--csv", c.csv, "data points CSV to write");
-    app.add_option("--header", c.header, "generated coefficients header to write");
-    app.add_option("--plot", c.plot, "PNG plot to write");
-    app.add_option("--cache", c.cache, "sample cache (reused and extended; lets a run resume)");
+    app.add_option("--csv", csv_path, "data points CSV to write");
+    app.add_option("--header", header_path, "generated coefficients header to write");
+    app.add_option("--plot", plot_path, "PNG plot to write");
+    app.add_option("--cache", cache_path, "sample cache (reused and extended; lets a run resume)");
     CLI11_PARSE(app, argc, argv);
-    c.fit = objective == "absolute" ? fabsynth::foam::fit_error::absolute : fabsynth::foam::fit_error::relative;
+    c.fit = objective == "absolute" ? foam::fit_error::absolute : foam::fit_error::relative;
     try {
         set_num_threads(threads);
         if (!pairs.empty()) {
@@ -93,10 +113,27 @@ int main(int argc, char** argv) {
             const std::size_t m = tau.size(), total = m * static_cast<std::size_t>(rho_count);
             for (std::size_t i = 0; i < total; ++i) {  // in increasing f, so a cut-short run still spans every tau
                 const double f = total == 1 ? fraction[0] : fraction[0] + (fraction[1] - fraction[0]) * double(i) / double(total - 1);
-                c.pairs.push_back({f * foam_fit::full_block_density(tau[i % m]), tau[i % m]});
+                c.pairs.push_back({f * foam::full_block_density(tau[i % m]), tau[i % m]});
             }
         }
-        const foam_fit::report r = foam_fit::run(c, [](const std::string& s) { std::cerr << s << std::endl; }, foam_fit::write_plot);
+        c.validate();
+        foam::sample_cache cache;
+        if (!cache_path.empty()) cache = read_cache(cache_path);
+        auto progress = [&](const foam::homogenized_sample& r, std::size_t index, std::size_t total, bool computed) {
+            if (computed && !cache_path.empty()) io::detail::atomic_write(cache_path, foam::format_sample_cache(cache));
+            char buf[320];
+            std::snprintf(buf, sizeof buf,
+                          "[%zu/%zu] rho %.4g tau %.4g seed %llu: w %.4f E %.5g nu %.4f iso %.4f islands %.4f period %lld "
+                          "iters %d %s %.1f s",
+                          index, total, r.s.density, r.s.radius, static_cast<unsigned long long>(r.s.seed), r.s.volume_fraction,
+                          r.s.E, r.s.nu, r.s.anisotropy, r.removed_fraction, static_cast<long long>(r.period), r.iterations,
+                          r.cached ? "(cached)" : "", r.seconds);
+            std::cerr << buf << std::endl;
+        };
+        const foam::elasticity_fit_report r = foam::run_elasticity_fit(c, &cache, progress);
+        if (!csv_path.empty()) io::detail::atomic_write(csv_path, foam::format_samples_csv(r.samples));
+        if (!header_path.empty()) io::detail::atomic_write(header_path, foam::format_elasticity_fit_header(c, r));
+        if (!plot_path.empty()) io::write_png(plot_path, foam_fit_plot::draw_plot(c, r));
         std::printf("samples %zu (%zu pairs x %d seeds), %d^3 elements, supersample %d\n", r.samples.size(), c.pairs.size(),
                     c.seeds_per_pair, c.elements, c.supersample);
         if (!r.P.coeffs.empty()) {

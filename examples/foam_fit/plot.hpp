@@ -1,5 +1,5 @@
 #pragma once
-/// @file plot.hpp  The foam_fit figure, drawn into a fabsynth::image8 (RGB) with a built-in 5x7
+/// @file plot.hpp  The foam_fit preview figure (pure drawing, kept with the tool), drawn into a fabsynth::image8 (RGB) with a built-in 5x7
 /// pixel font, so no plotting package is needed. Two panels:
 ///  - left (like the paper's Figure 5): E/Es against rho, one colour per tau; dots are the samples,
 ///    lines the fitted polynomial P(rho, tau) over the sampled densities of that tau;
@@ -14,11 +14,13 @@
 #include <vector>
 
 #include <fabsynth/core/image.hpp>
-#include <fabsynth/io/image.hpp>
+#include <fabsynth/foam/elasticity_study.hpp>
+#include <fabsynth/foam/fit.hpp>
 
-#include "foam_fit.hpp"
+namespace foam_fit_plot {
 
-namespace fabsynth::foam_fit {
+using fabsynth::image8;
+namespace foam = fabsynth::foam;
 
 namespace plot_detail {
 
@@ -179,7 +181,7 @@ inline rgb colour(std::size_t i) {
 }  // namespace plot_detail
 
 /// Draws the figure for a finished run (see the file comment).
-[[nodiscard]] inline image8 draw_plot(const config& c, const report& r) {
+[[nodiscard]] inline image8 draw_plot(const foam::elasticity_fit_config& c, const foam::elasticity_fit_report& r) {
     using namespace plot_detail;
     canvas cv(1640, 700);
     std::vector<double> taus;
@@ -192,7 +194,7 @@ inline rgb colour(std::size_t i) {
     {
         std::vector<foam::elasticity_sample> raw;
         for (const auto& s : r.samples) raw.push_back(s.s);
-        for (const auto& e : fit_points(raw)) rmax = std::max(rmax, e.density);
+        for (const auto& e : foam::fit_points(raw)) rmax = std::max(rmax, e.density);
     }
     auto tau_index = [&](double t) { return static_cast<std::size_t>(std::find(taus.begin(), taus.end(), t) - taus.begin()); };
     const double ytop = emax * 1.08 > 0 ? emax * 1.08 : 1.0;
@@ -201,7 +203,7 @@ inline rgb colour(std::size_t i) {
     left.axes("RHO (SEEDS/MM^3)", "E/ES", "YOUNG'S MODULUS VS DENSITY, PER BEAM RADIUS");
     std::vector<foam::elasticity_sample> raw;
     for (const auto& s : r.samples) raw.push_back(s.s);
-    const std::vector<foam::elasticity_sample> pts = fit_points(raw);
+    const std::vector<foam::elasticity_sample> pts = foam::fit_points(raw);
     if (!r.P.coeffs.empty())
         for (double t : taus) {  // the fit over the densities its points cover at this radius
             double lo = 1e300, hi = 0;
@@ -240,7 +242,4 @@ inline rgb colour(std::size_t i) {
     return cv.img;
 }
 
-/// Writes the figure as PNG (atomically) to c.plot.
-inline void write_plot(const config& c, const report& r) { io::write_png(c.plot, draw_plot(c, r)); }
-
-}  // namespace fabsynth::foam_fit
+}  // namespace foam_fit_plot

@@ -23,7 +23,6 @@
 
 #include <fabsynth/foam.hpp>
 #include <fabsynth/geometry/distance.hpp>
-#include <fabsynth/geometry/marching_cubes.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/vtk.hpp>
@@ -35,7 +34,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -46,50 +44,9 @@ using namespace fabsynth::foam;
 
 namespace {
 
-// Runtime-chosen density field (seeds/mm^3), built from the command line.
-struct cli_field {
-    enum class kind { constant, axis, image, surface } k = kind::constant;
-    double v0 = 0.1, v1 = 0.1;  // values (density or E/Es)
-    int axis = 0;
-    double c0 = 0, c1 = 1;      // axis range or surface depth (c0)
-    double x0 = 0, y0 = 0, x1 = 1, y1 = 1;
-    std::shared_ptr<image8> img;
-    std::shared_ptr<mesh_distance> surface;
-    bool elasticity = false, y_up = false;
-    std::shared_ptr<std::vector<double>> e_table;  // E -> rho lookup (fitted model, §4.2)
-    double e_lo = 0, e_hi = 1;
-
-    [[nodiscard]] double raw(const vec3& p) const {
-        switch (k) {
-            case kind::constant: return v0;
-            case kind::axis: {
-                const double t = std::clamp((p[axis] - c0) / (c1 - c0), 0.0, 1.0);
-                return v0 + (v1 - v0) * t;
-            }
-            case kind::image: {
-                const double u = std::clamp((p.x - x0) / (x1 - x0), 0.0, 1.0), v = std::clamp((y1 - p.y) / (y1 - y0), 0.0, 1.0);
-                const int i = std::min(img->width - 1, static_cast<int>(u * img->width));
-                const int j = std::min(img->height - 1, static_cast<int>(v * img->height));
-                return v0 + (v1 - v0) * img->at(i, j, 0) / 255.0;
-            }
-            case kind::surface: {
-                const double d = std::sqrt(surface->closest(p, c0).dist2);  // inf beyond depth
-                const double t = std::isfinite(d) ? d / c0 : 1.0;
-                return v0 + (v1 - v0) * t;
-            }
-        }
-        return v0;
-    }
-    double operator()(const vec3& p) const {
-        const double v = raw(p);
-        if (!elasticity) return v;
-        // monotone table lookup of the fitted model's inverse
-        const auto& t = *e_table;
-        const double s = std::clamp((v - e_lo) / (e_hi - e_lo), 0.0, 1.0) * static_cast<double>(t.size() - 1);
-        const auto i = std::min(t.size() - 2, static_cast<std::size_t>(s));
-        return t[i] + (t[i + 1] - t[i]) * (s - static_cast<double>(i));
-    }
-};
+// The density field chosen on the command line (seeds/mm^3, or E/Es mapped to seeds/mm^3).
+using value_field = variant_field<constant_field, linear_field, image_field, surface_distance_field>;
+using density_field = variant_field<value_field, elasticity_density_field<value_field>>;
 
 struct foam_args {
     double density = 0.2;
@@ -109,17 +66,12 @@ void add_foam_options(CLI::App* app, foam_args& a) {
     app->add_option("--seed", a.seed, "global random seed");
 }
 
-cli_field field_from(const foam_args& a) {
-    cli_field f;
-    if (a.density_x.size() == 4) {
-        f.k = cli_field::kind::axis;
-        f.axis = 0;
-        f.v0 = a.density_x[0], f.v1 = a.density_x[1], f.c0 = a.density_x[2], f.c1 = a.density_x[3];
-        if (f.c0 == f.c1) throw invalid_input("--density-x: X0 and X1 must differ");
-    } else {
-        f.v0 = f.v1 = a.density;
-    }
-    return f;
+// --density or --density-x as a field.
+value_field field_from(const foam_args& a) {
+    if (a.density_x.size() != 4) return {constant_field{a.density}};
+    const linear_field f{.axis = 0, .v0 = a.density_x[0], .v1 = a.density_x[1], .x0 = a.density_x[2], .x1 = a.density_x[3]};
+    if (f.x0 == f.x1) throw invalid_input("--density-x: X0 and X1 must differ");
+    return {f};
 }
 
 std::vector<vec3> read_points(const fs::path& path) {
@@ -204,7 +156,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     try {
         if (seeds_cmd->parsed() || eval_cmd->parsed()) {
-            const cli_field rho = field_from(fa);
+            const density_field rho{field_from(fa)};
             const voronoi_foam f(rho, constant_field{fa.radius}, {.cell = fa.cell, .seed = fa.seed});
             std::string text;
             if (seeds_cmd->parsed()) {
@@ -232,69 +184,57 @@ int main(int argc, char** argv) {
             const double s = size / std::max({bb.size().x, bb.size().y, bb.size().z});
             for (auto& v : mesh.vertices) v = (v - bb.lo) * s;
         }
-        const auto md = std::make_shared<mesh_distance>(mesh);
-        md->require_watertight();
-        cli_field field = field_from(fa);
+        const mesh_distance md(mesh);
+        md.require_watertight();
+        value_field values = field_from(fa);
+        double v_lo = 0, v_hi = 0;  // range of the field's values (for --elasticity)
         if (field_axis.size() == 5) {
-            field.k = cli_field::kind::axis;
-            field.axis = static_cast<int>(field_axis[0]);
-            if (field.axis < 0 || field.axis > 2) throw invalid_input("--field-axis: AXIS must be 0, 1 or 2");
-            field.v0 = field_axis[1], field.v1 = field_axis[2], field.c0 = field_axis[3], field.c1 = field_axis[4];
-            if (field.c0 == field.c1) throw invalid_input("--field-axis: C0 and C1 must differ");
+            const linear_field f{.axis = static_cast<int>(field_axis[0]), .v0 = field_axis[1], .v1 = field_axis[2],
+                                 .x0 = field_axis[3], .x1 = field_axis[4]};
+            if (f.axis < 0 || f.axis > 2) throw invalid_input("--field-axis: AXIS must be 0, 1 or 2");
+            if (f.x0 == f.x1) throw invalid_input("--field-axis: C0 and C1 must differ");
+            values.field = f, v_lo = f.v0, v_hi = f.v1;
         } else if (!field_image.empty()) {
             if (field_image_rect.size() != 6) throw invalid_input("--field-image needs --field-rect X0 Y0 X1 Y1 V0 V1");
-            field.k = cli_field::kind::image;
-            field.img = std::make_shared<image8>(io::read_png(field_image));
-            field.x0 = field_image_rect[0], field.y0 = field_image_rect[1], field.x1 = field_image_rect[2];
-            field.y1 = field_image_rect[3], field.v0 = field_image_rect[4], field.v1 = field_image_rect[5];
-            if (field.x0 >= field.x1 || field.y0 >= field.y1) throw invalid_input("--field-rect: need X0 < X1 and Y0 < Y1");
+            const auto& r = field_image_rect;
+            if (r[0] >= r[2] || r[1] >= r[3]) throw invalid_input("--field-rect: need X0 < X1 and Y0 < Y1");
+            values.field = image_field(io::read_png(field_image), box2({r[0], r[1]}, {r[2], r[3]}), r[4], r[5]);
+            v_lo = r[4], v_hi = r[5];
         } else if (field_surface.size() == 3) {
-            field.k = cli_field::kind::surface;
-            field.surface = md;
-            field.v0 = field_surface[0], field.v1 = field_surface[1], field.c0 = field_surface[2];
-            require_positive(field.c0, "--field-surface DEPTH");
+            require_positive(field_surface[2], "--field-surface DEPTH");
+            values.field = surface_distance_field(md, field_surface[0], field_surface[1], field_surface[2]);
+            v_lo = field_surface[0], v_hi = field_surface[1];
+        } else if (fa.density_x.size() == 4) {
+            v_lo = fa.density_x[0], v_hi = fa.density_x[1];
+        } else {
+            v_lo = v_hi = fa.density;
         }
+        density_field field{values};
         if (elasticity) {
-            field.elasticity = true;
-            const elasticity_polynomial model = fitted_elasticity();
-            field.e_lo = std::min(field.v0, field.v1), field.e_hi = std::max(field.v0, field.v1);
-            if (field.e_hi == field.e_lo) field.e_hi = field.e_lo + 1e-12;
-            const auto [rho_lo, rho_hi] = fitted_density_range(fa.radius);
-            const double reach_lo = model(rho_lo, fa.radius), reach_hi = model(rho_hi, fa.radius);
-            auto t = std::make_shared<std::vector<double>>(257);
-            for (std::size_t i = 0; i < t->size(); ++i) {
-                const double e = field.e_lo + (field.e_hi - field.e_lo) * static_cast<double>(i) / 256.0;
-                (*t)[i] = inverse_fitted_elasticity(e, fa.radius).density;  // throws if --radius was not sampled
-            }
-            field.e_table = t;
-            if (field.e_lo < reach_lo || field.e_hi > reach_hi)
+            const elasticity_density_field<value_field> e(values, fa.radius, std::min(v_lo, v_hi), std::max(v_lo, v_hi));
+            const auto [reach_lo, reach_hi] = e.reachable();
+            if (e.e_lo() < reach_lo || e.e_hi() > reach_hi)
                 std::cerr << "note: --elasticity targets outside [" << reach_lo << ", " << reach_hi
                           << "] (reachable with the fitted model at tau = " << fa.radius << " mm) are clamped\n";
+            field.field = e;
         }
         const voronoi_foam foam(field, constant_field{fa.radius}, {.cell = fa.cell, .seed = fa.seed});
         frame_options fo{.thickness = frame, .cuts = {}};
         for (std::size_t i = 0; i + 5 < cut_list.size(); i += 6)
             fo.cuts.push_back({{cut_list[i], cut_list[i + 1], cut_list[i + 2]}, {cut_list[i + 3], cut_list[i + 4], cut_list[i + 5]}});
-        const framed_foam obj(foam, *md, fo);
+        const framed_foam obj(foam, md, fo);
 
         fs::create_directories(out_dir);
         const box3 bb = bounding_box(mesh);
-        if (layer <= 0) layer = pixel;
-        require_positive(pixel, "--pixel");
-        const box2 region(vec2(bb.lo.x, bb.lo.y) - vec2(pixel), vec2(bb.hi.x, bb.hi.y) + vec2(pixel));
-        const int layers = std::max(1, static_cast<int>(std::floor(bb.size().z / layer)));
-        std::vector<int> which;
-        if (nslices > 0) {
-            for (int s = 0; s < nslices; ++s) which.push_back(static_cast<int>((s + 0.5) * layers / nslices));
-        } else {
-            for (int s = 0; s < layers; ++s) which.push_back(s);
-        }
+        const slice_stack stack = plan_slice_stack(bb, pixel, layer, nslices);
+        const box2& region = stack.region;
+        const std::vector<int>& which = stack.selected;
         const slice_options so{.supersample = supersample};
         std::uint64_t pixels = 0, solid = 0;
         double total_ms = 0;
         std::vector<image8> preview;
         for (std::size_t s = 0; s < which.size(); ++s) {
-            const double z = bb.lo.z + (which[s] + 0.5) * layer;
+            const double z = stack.z(which[s]);
             const auto t0 = std::chrono::steady_clock::now();
             const image8 img = obj.slice(z, region, pixel, so);
             total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -321,24 +261,7 @@ int main(int argc, char** argv) {
         if (stl_box.size() == 6) {
             const box3 sb({stl_box[0], stl_box[1], stl_box[2]}, {stl_box[3], stl_box[4], stl_box[5]});
             require_positive(stl_voxel, "--stl-voxel");
-            const ivec3 dims = ivec3(glm::ceil(sb.size() / stl_voxel)) + 3;  // one outside sample per side
-            if (double(dims.x) * dims.y * dims.z > 2e8) throw invalid_input("--stl-box: too many samples; raise --stl-voxel");
-            const vec3 origin = sb.lo - vec3(stl_voxel);
-            const double tau = fa.radius, reach = std::min(fa.cell, tau + 2 * stl_voxel);
-            // g < 0 inside: max(mesh sd, cuts, min(-(sd + frame), foam distance - tau)), +v at the border
-            auto g = [&](ivec3 p) -> double {
-                if (glm::any(glm::equal(p, ivec3(0))) || glm::any(glm::equal(p, dims - 1))) return stl_voxel;
-                const vec3 q = origin + vec3(p) * stl_voxel;
-                if (!sb.contains(q)) return stl_voxel;
-                const double sd = md->signed_distance(q);
-                double v = sd;
-                for (const auto& c : fo.cuts) v = std::max(v, glm::dot(q - c.point, glm::normalize(c.normal)));
-                const double fd = foam.distance_to_edges(q, reach);
-                const double foam_v = (std::isfinite(fd) ? fd : reach) - tau;
-                const double frame_v = frame > 0 ? -(sd + frame) : 1e9;
-                return std::max(v, std::min(frame_v, foam_v));
-            };
-            const triangle_mesh m = marching_cubes(g, dims, origin, vec3(stl_voxel));
+            const triangle_mesh m = framed_foam_mesh(obj, sb, stl_voxel);
             io::write_mesh(fs::path(out_dir) / "foam.stl", m);
             std::cerr << "foam.stl: " << m.faces.size() << " triangles\n";
         }

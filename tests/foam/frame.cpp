@@ -1,9 +1,13 @@
 // Frame + foam inside a mesh: one connected solid; frame present; cut planes open the foam.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
+#include "fabsynth/core/rng.hpp"
 #include "fabsynth/foam/frame.hpp"
+#include "fabsynth/foam/frame_mesh.hpp"
+#include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/voxel/components.hpp"
 #include "fabsynth/voxel/grid.hpp"
 #include "support/sphere_mesh.hpp"
@@ -90,4 +94,47 @@ TEST_CASE("frame bad input", "[foam][frame]") {
     CHECK_THROWS_AS(framed_foam(foam, ok, {.thickness = -1, .cuts = {}}), invalid_input);
     CHECK_THROWS_AS(framed_foam(foam, ok, {.thickness = NAN, .cuts = {}}), invalid_input);
     CHECK_THROWS_AS(framed_foam(foam, ok, {.thickness = 0.1, .cuts = {{{0, 0, 0}, {0, 0, 0}}}}), invalid_input);
+}
+
+TEST_CASE("frame implicit: the formula, and its sign agrees with contains()", "[foam][frame]") {
+    const mesh_distance md(test::sphere_mesh(3.0, 3));
+    const voronoi_foam foam(constant_field{0.3}, constant_field{0.2}, {.cell = 2, .seed = 4});
+    const cut_plane cut{{0, 0, 0.5}, {0, 0, 2}};  // normalized by framed_foam
+    const framed_foam obj(foam, md, {.thickness = 0.3, .cuts = {cut}});
+    const double reach = 0.5;
+    counter_rng rng(8, 9);
+    long inside = 0, near_tie = 0;
+    for (int n = 0; n < 3000; ++n) {
+        const vec3 q = vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 7.0 - 3.5;
+        // direct computation of the documented formula
+        const double sd = md.signed_distance(q);
+        const double d = foam.distance_to_edges(q, reach);
+        const double foam_v = std::min(d, reach) - 0.2;
+        const double want = std::max({sd, q.z - 0.5, std::min(-(sd + 0.3), foam_v)});
+        const double g = obj.implicit(q, reach);
+        CHECK(g == Approx(want).margin(1e-12));
+        if (std::abs(g) < 1e-9) {
+            ++near_tie;
+            continue;
+        }
+        CHECK((g < 0) == obj.contains(q));
+        inside += g < 0;
+    }
+    CHECK(inside > 100);
+    CHECK(near_tie < 5);
+}
+
+TEST_CASE("framed_foam_mesh: closed mesh of the solid in a box", "[foam][frame]") {
+    const mesh_distance md(test::sphere_mesh(3.0, 3));
+    const voronoi_foam foam(constant_field{0.3}, constant_field{0.2}, {.cell = 2, .seed = 4});
+    const framed_foam obj(foam, md, {.thickness = 0.3, .cuts = {}});
+    const box3 b({1.0, -1.0, -1.0}, {3.2, 1.0, 1.0});  // crosses the frame
+    const triangle_mesh m = framed_foam_mesh(obj, b, 0.1);
+    REQUIRE(!m.faces.empty());
+    CHECK(is_watertight(m));
+    const box3 mb = bounding_box(m);  // within one sample spacing of the box
+    CHECK(mb.lo.x >= b.lo.x - 0.1);
+    CHECK(mb.hi.x <= 3.0 + 0.1);  // nothing outside the sphere
+    CHECK_THROWS_AS(framed_foam_mesh(obj, b, 0.0), invalid_input);
+    CHECK_THROWS_AS(framed_foam_mesh(obj, box3({0, 0, 0}, {100, 100, 100}), 0.01), invalid_input);
 }

@@ -2,12 +2,20 @@
 /// @file fields.hpp  Scalar fields that drive a Voronoi foam: seed density rho(x) (seeds/mm^3) and
 /// beam radius tau(x) (mm).
 ///
-/// Any callable `double f(const vec3& x)` is a field (concept `scalar_field`). The two ready-made
-/// fields below also report their maximum, which the foam needs as a certified bound on tau.
+/// Any callable `double f(const vec3& x)` is a field (concept `scalar_field`). The ready-made
+/// fields below also report an upper bound of their values (`bounded_field`), which the foam needs
+/// as a certified bound on tau. Fields that read an image, a mesh or the elasticity fit are in
+/// field_adaptors.hpp (kept apart so the seed and evaluator headers do not pull those in).
+///
+/// Usage:
+///   linear_field rho{.axis = 2, .v0 = 0.05, .v1 = 0.6, .x0 = 0, .x1 = 30};     // seeds/mm^3 along z
+///   variant_field<constant_field, linear_field> f{rho};                        // chosen at run time
+///   double r = f({1, 2, 3}), bound = f.max_value();
 #include <algorithm>
 #include <concepts>
 #include <string>
 #include <type_traits>
+#include <variant>
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
@@ -47,6 +55,22 @@ struct linear_field {
         if (axis < 0 || axis > 2) throw invalid_input(std::string(what) + ": axis must be 0, 1 or 2");
         require_finite(v0, what), require_finite(v1, what), require_finite(x0, what), require_finite(x1, what);
         if (x0 == x1) throw invalid_input(std::string(what) + ": ramp ends x0 and x1 must differ");
+    }
+};
+
+/// One of several field types, chosen at run time (e.g. from a command line): a std::variant of
+/// fields called through std::visit, value and bound those of the held alternative. Bounded when
+/// every alternative is. Same values, bit for bit, as calling the held field directly.
+template <scalar_field... Fields>
+struct variant_field {
+    std::variant<Fields...> field;
+    [[nodiscard]] double operator()(const vec3& p) const {
+        return std::visit([&](const auto& f) { return static_cast<double>(f(p)); }, field);
+    }
+    [[nodiscard]] double max_value() const
+        requires(bounded_field<Fields> && ...)
+    {
+        return std::visit([](const auto& f) { return static_cast<double>(f.max_value()); }, field);
     }
 };
 

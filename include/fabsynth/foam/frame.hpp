@@ -64,6 +64,8 @@ public:
     }
 
     [[nodiscard]] const frame_options& options() const noexcept { return opt_; }
+    [[nodiscard]] const Foam& foam() const noexcept { return foam_; }
+    [[nodiscard]] const mesh_distance& surface() const noexcept { return surface_; }
 
     /// True iff q is kept by every cut plane.
     [[nodiscard]] bool kept_by_cuts(const vec3& q) const noexcept {
@@ -79,6 +81,24 @@ public:
         if (surface_.sign_of(q, c) > 0) return false;
         if (c.dist2 <= opt_.thickness * opt_.thickness) return true;
         return foam_.contains(q);
+    }
+
+    /// Signed implicit of the solid (mm), negative inside, positive outside, for meshing
+    /// (frame_mesh.hpp):
+    ///   g(q) = max(sd(q), max_c n_c.(q - p_c), min(frame(q), foam(q)))
+    /// with sd the signed distance to the mesh (< 0 inside), n_c the unit normal of cut c,
+    /// frame(q) = -(sd(q) + thickness) (1e9 without a frame) and foam(q) = min(d(q), reach) - tau(q),
+    /// d the distance to the foam's Voronoi edges. g(q) < 0 agrees with contains(q) except on ties
+    /// (g = 0) and within rounding of the surface. `reach` (mm, tau(q) < reach <= cell) caps the
+    /// edge search: beyond reach from every edge the foam term is the constant reach - tau.
+    [[nodiscard]] double implicit(const vec3& q, double reach) const {
+        const double sd = surface_.signed_distance(q);
+        double v = sd;
+        for (const auto& c : opt_.cuts) v = std::max(v, glm::dot(q - c.point, c.normal));  // unit normals
+        const double fd = foam_.distance_to_edges(q, reach);
+        const double foam_v = (std::isfinite(fd) ? fd : reach) - foam_.radius(q);
+        const double frame_v = opt_.thickness > 0 ? -(sd + opt_.thickness) : 1e9;
+        return std::max(v, std::min(frame_v, foam_v));
     }
 
     /// Slice at height z (same pixel layout as voronoi_foam::slice).

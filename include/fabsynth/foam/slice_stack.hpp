@@ -1,0 +1,56 @@
+#pragma once
+/// @file slice_stack.hpp  Which slices to print for a part: the layers of a stack through its
+/// bounding box and the region every slice covers (used with framed_foam::slice or
+/// voronoi_foam::slice).
+///
+/// Layer k spans z in [lo.z + k h, lo.z + (k + 1) h] (h = layer height) and is sliced at its
+/// middle; there are max(1, floor(height / h)) layers. The slice region is the box's xy footprint
+/// grown by one pixel on every side, so the part's outline never touches the image border.
+///
+/// Usage:
+///   slice_stack st = plan_slice_stack(bounding_box(mesh), 0.05, 0.05, 8);   // 8 evenly spaced layers
+///   for (int k : st.selected) image8 s = obj.slice(st.z(k), st.region, st.pixel);
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "fabsynth/core/box.hpp"
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/types.hpp"
+
+namespace fabsynth::foam {
+
+/// A planned slice stack (see the file comment).
+struct slice_stack {
+    box2 region;               ///< xy region of every slice, mm
+    double pixel = 0;          ///< pixel side, mm
+    double layer = 0;          ///< layer height, mm
+    double z0 = 0;             ///< bottom of layer 0, mm
+    int layers = 0;            ///< layers in the stack
+    std::vector<int> selected; ///< layer indices to slice, increasing
+    /// Height of the slice through layer k (its middle), mm.
+    [[nodiscard]] double z(int k) const noexcept { return z0 + (k + 0.5) * layer; }
+};
+
+/// Plans the stack through box bb (mm) with square pixels of side `pixel` (> 0) and layers of
+/// height `layer` (<= 0: the pixel size). count > 0 selects count evenly spaced layers (layer
+/// floor((s + 1/2) layers / count) for s = 0..count-1, repeats possible when count > layers);
+/// count <= 0 selects every layer. Throws invalid_input for a non-positive pixel or a box that is
+/// empty or not finite.
+[[nodiscard]] inline slice_stack plan_slice_stack(const box3& bb, double pixel, double layer, int count) {
+    if (layer <= 0) layer = pixel;
+    require_positive(pixel, "foam slice stack pixel size");
+    if (!all_finite(bb.lo) || !all_finite(bb.hi) || bb.empty()) throw invalid_input("foam slice stack: box is empty or not finite");
+    slice_stack st;
+    st.pixel = pixel, st.layer = layer, st.z0 = bb.lo.z;
+    st.region = box2(vec2(bb.lo.x, bb.lo.y) - vec2(pixel), vec2(bb.hi.x, bb.hi.y) + vec2(pixel));
+    st.layers = std::max(1, static_cast<int>(std::floor(bb.size().z / layer)));
+    if (count > 0) {
+        for (int s = 0; s < count; ++s) st.selected.push_back(static_cast<int>((s + 0.5) * st.layers / count));
+    } else {
+        for (int s = 0; s < st.layers; ++s) st.selected.push_back(s);
+    }
+    return st;
+}
+
+}  // namespace fabsynth::foam

@@ -1,0 +1,29 @@
+// Slice-stack planning (foam/slice_stack.hpp) against the layer arithmetic written out here.
+#include <catch2/catch.hpp>
+
+#include "fabsynth/foam/slice_stack.hpp"
+
+using namespace fabsynth;
+using namespace fabsynth::foam;
+
+TEST_CASE("slice stack: layers, selected layers, heights and region", "[foam][slice_stack]") {
+    const box3 bb({1, 2, 3}, {11, 7, 8.05});  // 5.05 mm tall
+    const slice_stack all = plan_slice_stack(bb, 0.1, 0.5, 0);
+    CHECK(all.layers == 10);  // floor(5.05 / 0.5)
+    REQUIRE(all.selected.size() == 10);
+    for (int k = 0; k < 10; ++k) {
+        CHECK(all.selected[static_cast<std::size_t>(k)] == k);
+        CHECK(all.z(k) == Approx(3 + 0.5 * k + 0.25));
+    }
+    CHECK(all.region.lo == vec2(0.9, 1.9));
+    CHECK(all.region.hi == vec2(11.1, 7.1));
+    const slice_stack four = plan_slice_stack(bb, 0.1, 0.5, 4);
+    CHECK(four.selected == std::vector<int>{1, 3, 6, 8});  // floor((s + 1/2) 10 / 4)
+    const slice_stack dflt = plan_slice_stack(bb, 0.25, 0, 0);  // layer height = pixel
+    CHECK(dflt.layer == 0.25);
+    CHECK(dflt.layers == 20);
+    const slice_stack flat = plan_slice_stack(box3({0, 0, 0}, {1, 1, 0.01}), 0.1, 0.1, 0);
+    CHECK(flat.layers == 1);
+    CHECK_THROWS_AS(plan_slice_stack(bb, 0, 0.5, 0), invalid_input);
+    CHECK_THROWS_AS(plan_slice_stack(box3(), 0.1, 0.5, 0), invalid_input);
+}
