@@ -8,7 +8,7 @@
 /// base volume 60^3 hexahedral elements of side tau (sample side 60 tau), coverage supersampled 4^3 per element,
 /// ~4 seeds per coarse cell, FEM tolerance 9.9999999999999995e-07.
 /// The fit uses each sample and its exact scale equivalents (rho (tau/t)^3, t) at the other sampled
-/// radii t (E depends on rho (2 tau)^3 only; see foam_fit::fit_points).
+/// radii t (E depends on rho (2 tau)^3 only; see foam/fit.hpp fit_points).
 /// Objective: relative residuals sum ((P - E) / E)^2 (paper: absolute).
 /// Largest deviation of a fit point from the fit: 5.6583735768366941% of its E (paper: 3.3%;
 /// with the absolute objective: 51.307960924625704%).

@@ -138,7 +138,7 @@ inline constexpr const char* sample_cache_head =
       << " tau), coverage supersampled " << c.supersample << "^3 per element,\n"
       << "/// ~" << exact(c.seeds_per_cell) << " seeds per coarse cell, FEM tolerance " << exact(c.tolerance) << ".\n"
       << "/// The fit uses each sample and its exact scale equivalents (rho (tau/t)^3, t) at the other sampled\n"
-      << "/// radii t (E depends on rho (2 tau)^3 only; see foam_fit::fit_points).\n"
+      << "/// radii t (E depends on rho (2 tau)^3 only; see foam/fit.hpp fit_points).\n"
       << "/// Objective: " << (c.fit == fit_error::relative ? "relative residuals sum ((P - E) / E)^2 (paper: absolute)" : "absolute residuals sum (P - E)^2 (as the paper)") << ".\n"
       << "/// Largest deviation of a fit point from the fit: " << exact(r.max_deviation * 100) << "% of its E (paper: 3.3%;\n"
       << "/// with the " << (c.fit == fit_error::relative ? "absolute" : "relative") << " objective: " << exact(r.max_deviation_other * 100) << "%).\n";
