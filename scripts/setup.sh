@@ -6,7 +6,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   clang libclang-rt-dev            # libFuzzer + sanitizer runtimes for the fuzz targets
   libeigen3-dev libglm-dev libnanoflann-dev
-  libstb-dev libtinyobjloader-dev libcli11-dev
+  libspng-dev libtinyobjloader-dev libcli11-dev
   libpolyclipping-dev libsuitesparse-dev
   catch2 libbenchmark-dev
 )
