@@ -7,7 +7,7 @@ packages=(
   clang libclang-rt-dev            # libFuzzer + sanitizer runtimes for the fuzz targets
   libeigen3-dev libglm-dev libnanoflann-dev
   libspng-dev libtinyobjloader-dev libcli11-dev
-  libpolyclipping-dev libsuitesparse-dev
+  libpolyclipping-dev libsuitesparse-dev lib3mf-dev
   catch2 libbenchmark-dev
 )
 missing=()
