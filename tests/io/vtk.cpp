@@ -184,3 +184,131 @@ TEST_CASE("VTK reader refuses huge grids before allocating", "[io][vtk]") {
     g.dims = {100000, 100000, 100};
     CHECK_THROWS_AS(io::write_vtk(tmp_dir() / "huge.vtk", g), invalid_input);
 }
+
+namespace {
+/// A field of `type` with values that type holds exactly (extremes included).
+io::vtk_field typed_field(std::string name, int comps, std::uint64_t count, io::vtk_type type, std::uint64_t seed) {
+    io::vtk_field f{std::move(name), comps, {}, type};
+    counter_rng r(seed);
+    for (std::uint64_t i = 0; i < count * std::uint64_t(comps); ++i) {
+        switch (type) {
+            case io::vtk_type::uint8: f.values.push_back(double(r.uniform_int(256))); break;
+            case io::vtk_type::uint16: f.values.push_back(double(r.uniform_int(65536))); break;
+            case io::vtk_type::int32: f.values.push_back(double(std::int64_t(r.uniform_int(1ULL << 32)) - (1LL << 31))); break;
+            case io::vtk_type::float32: f.values.push_back(io_test::to_float(r.normal() * std::pow(10.0, r.uniform(-30, 30)))); break;
+            case io::vtk_type::float64: f.values.push_back(r.normal() * std::pow(10.0, r.uniform(-100, 100))); break;
+        }
+    }
+    if (type == io::vtk_type::uint8) f.values[0] = 0, f.values[1] = 255;
+    if (type == io::vtk_type::int32) f.values[0] = -2147483648.0, f.values[1] = 2147483647.0;
+    return f;
+}
+constexpr io::vtk_type all_types[] = {io::vtk_type::uint8, io::vtk_type::uint16, io::vtk_type::int32, io::vtk_type::float32,
+                                      io::vtk_type::float64};
+}  // namespace
+
+TEST_CASE("VTK fields keep their type: each round-trips exactly in both encodings", "[io][vtk]") {
+    for (bool cells : {false, true})
+        for (auto enc : {io::encoding::ascii, io::encoding::binary}) {
+            io::structured_points g;
+            g.dims = {4, 3, 5};
+            g.cell_data = cells;
+            const std::uint64_t n = g.value_count();
+            int k = 0;
+            for (io::vtk_type t : all_types) {
+                const auto name = [&](char c) {  // (not "s" + to_string(k): GCC 12 -Wrestrict false positive)
+                    std::string s(1, c);
+                    return s.append(std::to_string(k));
+                };
+                g.fields.push_back(typed_field(name('s'), 1, n, t, 40 + std::uint64_t(k)));
+                g.fields.push_back(typed_field(name('v'), 3, n, t, 50 + std::uint64_t(k)));
+                g.fields.push_back(typed_field(name('t'), 6, n, t, 60 + std::uint64_t(k)));  // a FIELD array
+                ++k;
+            }
+            const auto p = tmp_dir() / "typed.vtk";
+            io::write_vtk(p, g, enc);
+            const io::structured_points r = io::read_vtk_structured_points(p);
+            CHECK(r == g);
+            const std::string text = io_test::slurp(p);
+            for (const char* name : {"unsigned_char", "unsigned_short", " int", " float", " double"})
+                CHECK(text.find(name) != std::string::npos);
+        }
+}
+
+TEST_CASE("VTK file size follows the field type", "[io][vtk]") {
+    io::structured_points g;
+    g.dims = {65, 65, 65};  // 64^3 cells
+    g.cell_data = true;
+    const std::uint64_t n = g.value_count();
+    std::uintmax_t size[5] = {};
+    for (int k = 0; k < 5; ++k) {
+        g.fields = {typed_field("solid", 1, n, all_types[k], 3)};
+        for (double& v : g.fields[0].values) v = std::fmod(std::abs(v), 2.0) < 1 ? 0.0 : 1.0;  // a 0/1 mask in any type
+        const auto p = tmp_dir() / ("size" + std::to_string(k) + ".vtk");
+        io::write_vtk(p, g);
+        size[k] = std::filesystem::file_size(p);
+        INFO(io::vtk_type_name(all_types[k]));
+        CHECK(size[k] > n);
+    }
+    const double dbl = double(size[4]);
+    CHECK(double(size[0]) / dbl == Approx(1.0 / 8).epsilon(0.01));  // unsigned_char
+    CHECK(double(size[1]) / dbl == Approx(2.0 / 8).epsilon(0.01));  // unsigned_short
+    CHECK(double(size[2]) / dbl == Approx(4.0 / 8).epsilon(0.01));  // int
+    CHECK(double(size[3]) / dbl == Approx(4.0 / 8).epsilon(0.01));  // float
+}
+
+TEST_CASE("VTK writers refuse values their type cannot hold; mesh and unstructured writers take types", "[io][vtk]") {
+    io::structured_points g;
+    g.dims = {2, 2, 1};
+    auto bad = [&](io::vtk_type t, double v, const char* what) {
+        io::vtk_field f{"f", 1, {0, 1, 2, v}, t};
+        g.fields = {f};
+        INFO(io::vtk_type_name(t) << " " << v);
+        CHECK_THROWS_WITH(io::write_vtk(tmp_dir() / "bad_typed.vtk", g), Catch::Contains(what) && Catch::Contains("value 3"));
+        CHECK_FALSE(std::filesystem::exists(tmp_dir() / "bad_typed.vtk"));
+    };
+    bad(io::vtk_type::uint8, 256, "whole number");
+    bad(io::vtk_type::uint8, -1, "whole number");
+    bad(io::vtk_type::uint8, 0.5, "whole number");
+    bad(io::vtk_type::uint16, 65536, "whole number");
+    bad(io::vtk_type::int32, 2147483648.0, "whole number");
+    bad(io::vtk_type::float32, 1e39, "does not fit a float");
+    // float32 rounds to the nearest float.
+    g.fields = {{"f", 1, {0.1, 1.0 / 3.0, -1e-30, 7}, io::vtk_type::float32}};
+    io::write_vtk(tmp_dir() / "f32.vtk", g, io::encoding::ascii);
+    CHECK(io::read_vtk_structured_points(tmp_dir() / "f32.vtk").fields[0].values ==
+          std::vector<double>{io_test::to_float(0.1), io_test::to_float(1.0 / 3.0), io_test::to_float(-1e-30), 7.0});
+    // ASCII readers check integer types too.
+    const std::string head = "# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 2 1 1\nPOINT_DATA 2\n";
+    CHECK_THROWS_WITH(io::parse_vtk_structured_points(head + "SCALARS m unsigned_char\n0 300\n", "u8.vtk"),
+                      Catch::StartsWith("fabsynth: u8.vtk:8: ") && Catch::Contains("whole number"));
+    CHECK_THROWS_AS(io::parse_vtk_structured_points(head + "SCALARS m int\n0 1.5\n", "i.vtk"), io_error);
+
+    // Mesh (POLYDATA) and unstructured writers store each field in its type.
+    const triangle_mesh m = io_test::awkward_mesh(7, 30);
+    io::vtk_field label{"label", 1, std::vector<double>(m.num_faces(), 3.0), io::vtk_type::uint8};
+    io::vtk_field normal = typed_field("n", 3, m.num_vertices(), io::vtk_type::float32, 9);
+    io::write_vtk(tmp_dir() / "mesh_typed.vtk", m, {normal}, {label}, io::encoding::ascii);
+    const auto t = tokens(io_test::slurp(tmp_dir() / "mesh_typed.vtk"));
+    const auto at = std::size_t(std::find(t.begin(), t.end(), "label") - t.begin());
+    REQUIRE(at + 5 < t.size());
+    CHECK(t[at + 1] == "unsigned_char");
+    CHECK(t[at + 5] == "3");
+    const auto nf = std::size_t(std::find(t.begin(), t.end(), "n") - t.begin());
+    CHECK(t[nf + 1] == "float");
+    io::write_vtk(tmp_dir() / "mesh_typed_bin.vtk", m, {}, {label});
+    io::write_vtk(tmp_dir() / "mesh_double_bin.vtk", m, {}, {{"label", 1, label.values}});
+    CHECK(std::filesystem::file_size(tmp_dir() / "mesh_double_bin.vtk") - std::filesystem::file_size(tmp_dir() / "mesh_typed_bin.vtk") ==
+          7 * m.num_faces() - 7);  // 7 bytes less per value, but "unsigned_char" is 7 letters longer than "double"
+    const std::vector<vec3> pts = {{0, 0, 0}, {1, 0, 0}};
+    io::write_vtk_unstructured(tmp_dir() / "ug_typed.vtk", pts, {{io::vtk_cell_type::line, {0, 1}}}, {},
+                               {{"id", 1, {-5}, io::vtk_type::int32}}, io::encoding::ascii);
+    const auto u = tokens(io_test::slurp(tmp_dir() / "ug_typed.vtk"));
+    const auto id = std::size_t(std::find(u.begin(), u.end(), "id") - u.begin());
+    REQUIRE(id + 5 < u.size());
+    CHECK(u[id + 1] == "int");
+    CHECK(u[id + 5] == "-5");
+    CHECK_THROWS_AS(io::write_vtk_unstructured(tmp_dir() / "ug_bad.vtk", pts, {{io::vtk_cell_type::line, {0, 1}}}, {},
+                                               {{"id", 1, {300}, io::vtk_type::uint8}}),
+                    invalid_input);
+}
