@@ -139,6 +139,12 @@ TEST_CASE("PNG reader handles low bit depths, palettes, tRNS and 16-bit RGB", "[
     CHECK(pi.channels == 4);
     REQUIRE(pi.pixel_mm);
     CHECK(*pi.pixel_mm == vec2(0.05, 0.1));  // 20000 and 10000 px/m
+    // A tRNS colour key adds alpha: 0 where the key matches, opaque elsewhere.
+    CHECK(io::read_png(corpus / "gray8_key.png").data == std::vector<std::uint8_t>{7, 0, 8, 255, 255, 255});
+    const image8 key = io::read_png(corpus / "rgb8_key.png");
+    CHECK(key.channels == 4);
+    CHECK(key.data == std::vector<std::uint8_t>{1, 2, 3, 0, 1, 2, 4, 255});
+    CHECK(io::read_png16(corpus / "rgb8_key.png").at(1, 0, 3) == 65535);
     // 16-bit grey and RGB, samples as stored.
     CHECK(io::read_png16(corpus / "gray16.png").data == std::vector<std::uint16_t>{0, 1, 256, 1000, 65534, 65535});
     CHECK(io::read_png(corpus / "gray16.png").data == std::vector<std::uint8_t>{0, 0, 1, 3, 255, 255});
