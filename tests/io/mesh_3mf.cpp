@@ -11,6 +11,19 @@
 using namespace fabsynth;
 using io_test::tmp_dir;
 
+// lib3mf 1.8.1 (Debian bookworm) leaks about 0.5 KB of libzip state on every read, also on
+// success; nothing the caller can free. Suppressed for LeakSanitizer in this test binary only.
+#if defined(__SANITIZE_ADDRESS__)
+#define FABSYNTH_TEST_LSAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define FABSYNTH_TEST_LSAN 1
+#endif
+#endif
+#if defined(FABSYNTH_TEST_LSAN)
+extern "C" const char* __lsan_default_suppressions() { return "leak:libzip.so\n"; }
+#endif
+
 namespace {
 /// lib3mf 1.x prints coordinates cut to 6 decimals: each reads back within 1e-6 (plus the float
 /// rounding of the parsed decimal) of the float the writer was given.
@@ -81,10 +94,17 @@ TEST_CASE("3MF writer and reader refuse bad input", "[io][3mf][malformed]") {
     CHECK_THROWS_AS(io::write_3mf(dir / "no_such_dir" / "m.3mf", m), io_error);
 
     CHECK_THROWS_WITH(io::parse_3mf("", "bad.3mf"), Catch::StartsWith("fabsynth: bad.3mf: ") && Catch::Contains("empty"));
-    CHECK_THROWS_WITH(io::parse_3mf("solid x\nendsolid x\n", "bad.3mf"), Catch::StartsWith("fabsynth: bad.3mf: "));
     io::write_3mf(dir / "ok.3mf", m);
     const std::string ok = io_test::slurp(dir / "ok.3mf");
-    CHECK_THROWS_AS(io::parse_3mf(ok.substr(0, ok.size() / 2), "cut.3mf"), io_error);
+    CHECK_THROWS_WITH(io::parse_3mf("solid x\nendsolid x\n", "stl.3mf"), Catch::StartsWith("fabsynth: stl.3mf: byte 0: ") &&
+                                                                                Catch::Contains("no ZIP signature"));
+    CHECK_THROWS_WITH(io::parse_3mf(ok.substr(0, ok.size() / 2), "cut.3mf"), Catch::Contains("truncated"));
+    CHECK_THROWS_WITH(io::parse_3mf(ok.substr(0, ok.size() - 3), "cut.3mf"), Catch::Contains("truncated"));
+    // A ZIP package without a 3D model part: lib3mf's own refusal, located by file name.
+    std::string other = ok;
+    for (std::size_t at = other.find("3D/3dmodel.model"); at != std::string::npos; at = other.find("3D/3dmodel.model", at + 1))
+        other.replace(at, 16, "3D/xxxxxxx.model");
+    CHECK_THROWS_WITH(io::parse_3mf(other, "other.3mf"), Catch::StartsWith("fabsynth: other.3mf: "));
     CHECK_THROWS_WITH(io::read_3mf(dir / "missing.3mf"), Catch::Contains("does not exist"));
 }
 
