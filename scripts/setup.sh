@@ -6,8 +6,8 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   clang libclang-rt-dev            # libFuzzer + sanitizer runtimes for the fuzz targets
   libeigen3-dev libglm-dev libnanoflann-dev
-  libstb-dev libtinyobjloader-dev libcli11-dev
-  libpolyclipping-dev libsuitesparse-dev
+  libspng-dev libcli11-dev
+  libpolyclipping-dev libsuitesparse-dev lib3mf-dev
   libboost-dev                     # header-only: Boost.Polygon segment Voronoi (medial axis)
   catch2 libbenchmark-dev
   nlohmann-json3-dev               # the tools' --json summaries (examples/common/tool.hpp)

@@ -1,5 +1,6 @@
 #pragma once
-/// @file io.hpp  File input/output: meshes (OBJ, STL, PLY), images (PNG, PGM), legacy VTK, SVG.
+/// @file io.hpp  File input/output: meshes (OBJ, STL, PLY; 3MF with fabsynth::lib3mf), images
+/// (PNG 8/16-bit with pixel size, PGM), legacy VTK, SVG.
 ///
 /// io/ is the only part of fabsynth that touches files. Every reader parses from memory
 /// (parse_obj, parse_stl, ... take bytes and a name for messages) and rejects malformed input
@@ -8,6 +9,9 @@
 #include "fabsynth/io/encoding.hpp"
 #include "fabsynth/io/image.hpp"
 #include "fabsynth/io/mesh.hpp"
+#if defined(FABSYNTH_HAS_LIB3MF)
+#include "fabsynth/io/mesh_3mf.hpp"
+#endif
 #include "fabsynth/io/mesh_obj.hpp"
 #include "fabsynth/io/mesh_ply.hpp"
 #include "fabsynth/io/mesh_stl.hpp"

@@ -149,6 +149,10 @@ std::vector<bad_case> cases() {
         {"png not png", png("GIF89a........"), kind::io, "bad.png: byte 0: ", "not a PNG"},
         {"png truncated", png(pngs.substr(0, pngs.size() / 2)), kind::io, "bad.png: ", "corrupt"},
         {"png giant", png(set_be32(set_be32(pngs, 16, 20000), 20, 20000)), kind::input, "bad.png: ", "exceeds the limit"},
+        {"png bad CRC", png(set_be32(pngs, 29, 0)), kind::io, "bad.png: ", "checksum"},
+        {"png zero width", png(set_be32(pngs, 16, 0)), kind::io, "bad.png: ", "corrupt PNG header"},
+        {"png only signature", png(pngs.substr(0, 8)), kind::io, "bad.png: ", "corrupt PNG header"},
+        {"png garbage IDAT", png(pngs.substr(0, pngs.find("IDAT") + 8) + std::string(64, 'x')), kind::io, "bad.png: ", "corrupt"},
         // PGM
         {"pgm empty", pgm(""), kind::io, "bad.pgm: ", "empty"},
         {"pgm magic", pgm("P6\n1 1\n255\n\xff\xff\xff"), kind::io, "bad.pgm:1: ", "not a PGM"},

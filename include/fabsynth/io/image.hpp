@@ -1,31 +1,46 @@
 #pragma once
-/// @file image.hpp  Raster files: PNG (via stb) and PGM (P2 ASCII / P5 binary, own parser).
+/// @file image.hpp  Raster files: PNG (via libspng) and PGM (P2 ASCII / P5 binary, own parser).
 ///
 /// Images are fabsynth::image8 / image16 (core/image.hpp): row-major from the top-left pixel,
 /// `channels` interleaved samples per pixel (1 = grey, 2 = grey+alpha, 3 = RGB, 4 = RGBA).
 ///
+/// PNG: read_png gives 8 bits per sample (16-bit files keep their high byte, 1/2/4-bit grey is
+/// scaled to 0..255), read_png16 16 bits (8-bit samples v become 257 v, so 255 -> 65535).
+/// Files keep their channel count; palette images read as RGB, or RGBA if they have a tRNS
+/// chunk; a tRNS colour key on grey or RGB images adds an alpha channel. Writers take 8- or
+/// 16-bit images and can store the physical pixel size as a pHYs chunk, which read_png_info
+/// gives back. pHYs holds whole pixels per metre, so the size reads back as 1000 / round(1000 /
+/// pixel_mm) mm (0.05 mm exactly; 0.03 mm as 0.0300003 mm).
+///
 /// Readers refuse images of more than max_image_pixels (2^28) pixels with invalid_input before
 /// decoding, and throw io_error naming the file for anything malformed (for PGM with the line of
-/// the bad header token or sample, or the byte offset where binary data runs short).
+/// the bad header token or sample, or the byte offset where binary data runs short; for PNG with
+/// libspng's reason: bad CRC, truncated or corrupt data, invalid header fields).
 ///
 /// Usage:
 ///   fabsynth::image8 ex = fabsynth::io::read_png(FABSYNTH_DATA_DIR "/exemplars/zebra.png");
-///   fabsynth::io::write_png("preview.png", ex);
+///   fabsynth::io::write_png("slice.png", ex, {.pixel_mm = 0.05});   // 20000 pixels per metre
+///   const auto info = fabsynth::io::read_png_info("slice.png");    // info.pixel_mm == vec2(0.05)
 #include <algorithm>
+#include <bit>
 #include <climits>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
-#include <stb_image.h>
-#include <stb_image_write.h>
+#include <spng.h>
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/image.hpp"
+#include "fabsynth/core/types.hpp"
 #include "fabsynth/io/detail/atomic_file.hpp"
 #include "fabsynth/io/detail/binary.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
@@ -39,42 +54,137 @@ inline constexpr std::uint64_t max_image_pixels = std::uint64_t{1} << 28;
 
 // ---------------------------------------------------------------------------------------- PNG
 
-/// Decodes PNG bytes to 8 bits per sample, keeping the file's channel count (16-bit PNGs are
-/// reduced to 8 bits by stb). Images larger than `max_pixels` are refused with invalid_input
-/// before decoding (the fuzzer passes a smaller bound). `name` prefixes error messages.
-inline image8 parse_png(std::string_view bytes, std::string_view name, std::uint64_t max_pixels = max_image_pixels) {
+/// What a PNG header says, without decoding the pixels.
+struct png_info {
+    int width = 0;
+    int height = 0;
+    int channels = 0;   ///< as read_png returns them (palette: 3, or 4 with tRNS; a tRNS key adds alpha)
+    int bit_depth = 0;  ///< bits per sample in the file: 1, 2, 4, 8 or 16
+    /// Physical pixel size (mm, x and y) from a pHYs chunk in pixels per metre; empty if the file
+    /// has none, or one with unit "unknown" (an aspect ratio only).
+    std::optional<vec2> pixel_mm;
+};
+
+/// Options of the PNG writers.
+struct png_options {
+    /// Physical size of one (square) pixel in mm, stored as a pHYs chunk of round(1000 / pixel_mm)
+    /// pixels per metre; 0 writes no pHYs. Must be finite and give 1 .. 2^31-1 pixels per metre.
+    double pixel_mm = 0;
+};
+
+namespace detail {
+
+struct spng_ctx_deleter {
+    void operator()(spng_ctx* c) const noexcept { spng_ctx_free(c); }
+};
+using spng_ctx_ptr = std::unique_ptr<spng_ctx, spng_ctx_deleter>;
+
+/// A decoder over `bytes` with the header read and checked; what to decode it to.
+struct png_decoder {
+    spng_ctx_ptr ctx;
+    spng_ihdr ihdr{};
+    png_info info;
+    int fmt = SPNG_FMT_RAW;  // libspng output format for decode_image
+    int flags = 0;           // SPNG_DECODE_TRNS where a tRNS chunk becomes alpha
+    int sample_bytes = 1;    // 1 or 2 in the decoded buffer
+    bool big_endian = false; // SPNG_FMT_RAW is big-endian, the other 16-bit formats host order
+};
+
+inline png_decoder open_png(std::string_view bytes, std::string_view name, std::uint64_t max_pixels) {
     static constexpr unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     if (bytes.empty()) throw io_error(name, 0, "file is empty");
     for (std::size_t i = 0; i < 8; ++i)
         if (i >= bytes.size() || static_cast<unsigned char>(bytes[i]) != signature[i])
             throw io_error::at_byte(name, i, "not a PNG file (bad signature)");
-    if (bytes.size() > static_cast<std::size_t>(INT_MAX)) throw io_error(name, 0, "PNG file too large for the decoder");
-    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
-    const int len = static_cast<int>(bytes.size());
-    int w = 0, h = 0, comp = 0;
-    if (!stbi_info_from_memory(data, len, &w, &h, &comp))
-        throw io_error(name, 0, std::string("corrupt PNG header: ") + stbi_failure_reason());
-    if (w <= 0 || h <= 0 || comp < 1 || comp > 4)
+    // The size limit is checked on the raw IHDR fields first, before libspng allocates anything
+    // (and before its CRC check, so a forged size is reported as a size).
+    if (bytes.size() >= 24 && bytes.substr(12, 4) == "IHDR") {
+        const std::uint64_t w = load<std::uint32_t>(bytes.data() + 16, byte_order::big);
+        const std::uint64_t h = load<std::uint32_t>(bytes.data() + 20, byte_order::big);
+        if (w * h > max_pixels)
+            throw invalid_input(std::string(name) + ": PNG of " + std::to_string(w) + "x" + std::to_string(h) +
+                                " pixels exceeds the limit of " + std::to_string(max_pixels) + " pixels");
+    }
+    png_decoder d;
+    d.ctx.reset(spng_ctx_new(0));
+    if (!d.ctx) throw std::bad_alloc();
+    // No chunk can be longer than the file; decompressed ancillary data (text, ICC) is capped.
+    spng_set_chunk_limits(d.ctx.get(), bytes.size(), std::size_t{1} << 26);
+    if (int r = spng_set_png_buffer(d.ctx.get(), bytes.data(), bytes.size()))
+        throw io_error(name, 0, std::string("cannot read PNG: ") + spng_strerror(r));
+    if (int r = spng_get_ihdr(d.ctx.get(), &d.ihdr)) throw io_error(name, 0, std::string("corrupt PNG header: ") + spng_strerror(r));
+    const std::uint64_t w = d.ihdr.width, h = d.ihdr.height;
+    if (w == 0 || h == 0 || w > INT_MAX || h > INT_MAX)
         throw io_error(name, 0, std::string("PNG has invalid size ") + std::to_string(w) + "x" + std::to_string(h));
-    if (static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > max_pixels)
+    if (w * h > max_pixels)
         throw invalid_input(std::string(name) + ": PNG of " + std::to_string(w) + "x" + std::to_string(h) +
                             " pixels exceeds the limit of " + std::to_string(max_pixels) + " pixels");
-    int w2 = 0, h2 = 0, comp2 = 0;
-    const std::unique_ptr<stbi_uc, void (*)(void*)> pixels(stbi_load_from_memory(data, len, &w2, &h2, &comp2, 0),
-                                                           &stbi_image_free);
-    if (!pixels) throw io_error(name, 0, std::string("corrupt PNG data: ") + stbi_failure_reason());
-    if (w2 != w || h2 != h || comp2 != comp) throw io_error(name, 0, "PNG header and decoded data disagree");
-    image8 img(w, h, comp);
-    std::copy(pixels.get(), pixels.get() + img.data.size(), img.data.begin());
+    spng_trns trns{};
+    const int trns_state = spng_get_trns(d.ctx.get(), &trns);
+    if (trns_state && trns_state != SPNG_ECHUNKAVAIL)
+        throw io_error(name, 0, std::string("corrupt PNG: ") + spng_strerror(trns_state));
+    const bool has_trns = trns_state == 0;
+    const bool deep = d.ihdr.bit_depth == 16;
+    d.info.width = static_cast<int>(w);
+    d.info.height = static_cast<int>(h);
+    d.info.bit_depth = d.ihdr.bit_depth;
+    d.sample_bytes = deep ? 2 : 1;
+    switch (d.ihdr.color_type) {
+        case SPNG_COLOR_TYPE_GRAYSCALE:
+            if (has_trns) {
+                d.info.channels = 2, d.fmt = deep ? SPNG_FMT_GA16 : SPNG_FMT_GA8, d.flags = SPNG_DECODE_TRNS;
+            } else {
+                d.info.channels = 1, d.fmt = d.ihdr.bit_depth >= 8 ? SPNG_FMT_RAW : SPNG_FMT_G8;
+                d.big_endian = d.fmt == SPNG_FMT_RAW;  // SPNG_FMT_G8 scales 1/2/4-bit grey to 0..255
+            }
+            break;
+        case SPNG_COLOR_TYPE_TRUECOLOR:
+            if (has_trns) d.info.channels = 4, d.fmt = deep ? SPNG_FMT_RGBA16 : SPNG_FMT_RGBA8, d.flags = SPNG_DECODE_TRNS;
+            else d.info.channels = 3, d.fmt = SPNG_FMT_RAW, d.big_endian = true;
+            break;
+        case SPNG_COLOR_TYPE_INDEXED:
+            d.info.channels = has_trns ? 4 : 3, d.fmt = has_trns ? SPNG_FMT_RGBA8 : SPNG_FMT_RGB8;
+            d.flags = has_trns ? SPNG_DECODE_TRNS : 0, d.sample_bytes = 1;
+            break;
+        case SPNG_COLOR_TYPE_GRAYSCALE_ALPHA: d.info.channels = 2, d.fmt = SPNG_FMT_RAW, d.big_endian = true; break;
+        case SPNG_COLOR_TYPE_TRUECOLOR_ALPHA: d.info.channels = 4, d.fmt = SPNG_FMT_RAW, d.big_endian = true; break;
+        default: throw io_error(name, 0, "PNG has invalid colour type " + std::to_string(d.ihdr.color_type));
+    }
+    spng_phys phys{};
+    const int phys_state = spng_get_phys(d.ctx.get(), &phys);
+    if (phys_state && phys_state != SPNG_ECHUNKAVAIL)
+        throw io_error(name, 0, std::string("corrupt PNG: ") + spng_strerror(phys_state));
+    if (phys_state == 0 && phys.unit_specifier == 1 && phys.ppu_x > 0 && phys.ppu_y > 0)
+        d.info.pixel_mm = vec2(1000.0 / phys.ppu_x, 1000.0 / phys.ppu_y);
+    return d;
+}
+
+template <class T>
+image<T> decode_png(std::string_view bytes, std::string_view name, std::uint64_t max_pixels) {
+    static_assert(std::is_same_v<T, std::uint8_t> || std::is_same_v<T, std::uint16_t>);
+    png_decoder d = open_png(bytes, name, max_pixels);
+    const std::size_t samples = static_cast<std::size_t>(d.info.width) * static_cast<std::size_t>(d.info.height) *
+                                static_cast<std::size_t>(d.info.channels);
+    std::size_t size = 0;
+    if (int r = spng_decoded_image_size(d.ctx.get(), d.fmt, &size))
+        throw io_error(name, 0, std::string("corrupt PNG header: ") + spng_strerror(r));
+    if (size != samples * static_cast<std::size_t>(d.sample_bytes)) throw io_error(name, 0, "PNG header and decoded size disagree");
+    std::vector<unsigned char> buf(size);
+    if (int r = spng_decode_image(d.ctx.get(), buf.data(), buf.size(), d.fmt, d.flags))
+        throw io_error(name, 0, std::string("corrupt PNG data: ") + spng_strerror(r));
+    image<T> img(d.info.width, d.info.height, d.info.channels);
+    const auto* p = reinterpret_cast<const char*>(buf.data());
+    const auto order = d.big_endian ? byte_order::big : (std::endian::native == std::endian::little ? byte_order::little : byte_order::big);
+    for (std::size_t i = 0; i < samples; ++i) {
+        const unsigned v = d.sample_bytes == 2 ? load<std::uint16_t>(p + 2 * i, order) : static_cast<unsigned char>(p[i]);
+        if constexpr (sizeof(T) == 1)
+            img.data[i] = static_cast<T>(d.sample_bytes == 2 ? v >> 8 : v);
+        else
+            img.data[i] = static_cast<T>(d.sample_bytes == 2 ? v : v * 257u);
+    }
     return img;
 }
 
-/// Reads a PNG file (1..4 channels, 8 bits per sample).
-inline image8 read_png(const std::filesystem::path& path) {
-    return parse_png(detail::read_file(path), path.string());
-}
-
-namespace detail {
 inline void check_image_for_writing(int w, int h, int c, std::size_t samples, const std::string& file) {
     if (w <= 0 || h <= 0 || c < 1 || c > 4)
         throw invalid_input(file + ": cannot write an image of size " + std::to_string(w) + "x" + std::to_string(h) +
@@ -84,25 +194,99 @@ inline void check_image_for_writing(int w, int h, int c, std::size_t samples, co
     if (static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > max_image_pixels)
         throw invalid_input(file + ": image exceeds the limit of " + std::to_string(max_image_pixels) + " pixels");
 }
-}  // namespace detail
 
-/// PNG bytes of an 8-bit image with 1..4 channels.
-inline std::string format_png(const image8& img, std::string_view name = "PNG") {
-    detail::check_image_for_writing(img.width, img.height, img.channels, img.data.size(), std::string(name));
-    std::string out;
-    auto append = [](void* ctx, void* data, int size) {
-        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+template <class T>
+std::string encode_png(const image<T>& img, const png_options& opt, std::string_view name) {
+    const std::string file(name);
+    check_image_for_writing(img.width, img.height, img.channels, img.data.size(), file);
+    std::uint32_t ppm = 0;
+    if (opt.pixel_mm != 0) {
+        const double per_metre = 1000.0 / opt.pixel_mm;
+        if (!(std::isfinite(opt.pixel_mm) && opt.pixel_mm > 0 && per_metre >= 0.5 && per_metre < 2147483647.5))
+            throw invalid_input(file + ": PNG pixel size " + std::to_string(opt.pixel_mm) +
+                                " mm must be > 0 and give 1 .. 2^31-1 pixels per metre");
+        ppm = static_cast<std::uint32_t>(std::llround(per_metre));
+    }
+    spng_ctx_ptr ctx(spng_ctx_new(SPNG_CTX_ENCODER));
+    if (!ctx) throw std::bad_alloc();
+    auto check = [&](int r, const char* step) {
+        if (r) throw io_error(name, 0, std::string("PNG encoding failed (") + step + "): " + spng_strerror(r));
     };
-    if (!stbi_write_png_to_func(append, &out, img.width, img.height, img.channels, img.data.data(),
-                                img.width * img.channels))
-        throw io_error(name, 0, "PNG encoding failed");
-    return out;
+    check(spng_set_option(ctx.get(), SPNG_ENCODE_TO_BUFFER, 1), "buffer");
+    static constexpr std::uint8_t colour_type[5] = {0, SPNG_COLOR_TYPE_GRAYSCALE, SPNG_COLOR_TYPE_GRAYSCALE_ALPHA,
+                                                    SPNG_COLOR_TYPE_TRUECOLOR, SPNG_COLOR_TYPE_TRUECOLOR_ALPHA};
+    spng_ihdr ihdr{};
+    ihdr.width = static_cast<std::uint32_t>(img.width);
+    ihdr.height = static_cast<std::uint32_t>(img.height);
+    ihdr.bit_depth = sizeof(T) * 8;
+    ihdr.color_type = colour_type[img.channels];
+    check(spng_set_ihdr(ctx.get(), &ihdr), "header");
+    if (ppm) {
+        spng_phys phys{ppm, ppm, 1};
+        check(spng_set_phys(ctx.get(), &phys), "pHYs");
+    }
+    int r = 0;
+    if constexpr (sizeof(T) == 1) {
+        r = spng_encode_image(ctx.get(), img.data.data(), img.data.size(), SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
+    } else {  // SPNG_FMT_RAW: samples in PNG (big-endian) order
+        std::string be;
+        be.reserve(2 * img.data.size());
+        for (std::uint16_t v : img.data) store(be, v, byte_order::big);
+        r = spng_encode_image(ctx.get(), be.data(), be.size(), SPNG_FMT_RAW, SPNG_ENCODE_FINALIZE);
+    }
+    check(r, "image");
+    std::size_t len = 0;
+    int err = 0;
+    const std::unique_ptr<void, void (*)(void*)> png(spng_get_png_buffer(ctx.get(), &len, &err), &std::free);
+    if (!png || err) throw io_error(name, 0, std::string("PNG encoding failed: ") + spng_strerror(err));
+    return {static_cast<const char*>(png.get()), len};
 }
 
-/// Writes an 8-bit image with 1..4 channels as PNG (atomically). Throws invalid_input for an
-/// empty or inconsistent image, io_error if writing fails.
-inline void write_png(const std::filesystem::path& path, const image8& img) {
-    detail::atomic_write(path, format_png(img, path.string()));
+}  // namespace detail
+
+/// Decodes PNG bytes to 8 bits per sample, keeping the file's channel count (16-bit samples keep
+/// their high byte, 1/2/4-bit grey is scaled to 0..255). Images larger than `max_pixels` are
+/// refused with invalid_input before decoding (the fuzzer passes a smaller bound). `name`
+/// prefixes error messages.
+inline image8 parse_png(std::string_view bytes, std::string_view name, std::uint64_t max_pixels = max_image_pixels) {
+    return detail::decode_png<std::uint8_t>(bytes, name, max_pixels);
+}
+/// Decodes PNG bytes to 16 bits per sample (lower depths scaled to 0..65535; see parse_png).
+inline image16 parse_png16(std::string_view bytes, std::string_view name, std::uint64_t max_pixels = max_image_pixels) {
+    return detail::decode_png<std::uint16_t>(bytes, name, max_pixels);
+}
+/// Size, channels, bit depth and pixel size (pHYs) of PNG bytes, without decoding the pixels.
+inline png_info parse_png_info(std::string_view bytes, std::string_view name, std::uint64_t max_pixels = max_image_pixels) {
+    return detail::open_png(bytes, name, max_pixels).info;
+}
+
+/// Reads a PNG file (1..4 channels, 8 bits per sample).
+inline image8 read_png(const std::filesystem::path& path) { return parse_png(detail::read_file(path), path.string()); }
+/// Reads a PNG file (1..4 channels, 16 bits per sample).
+inline image16 read_png16(const std::filesystem::path& path) { return parse_png16(detail::read_file(path), path.string()); }
+/// Reads the header and pHYs chunk of a PNG file (see png_info).
+inline png_info read_png_info(const std::filesystem::path& path) { return parse_png_info(detail::read_file(path), path.string()); }
+
+/// PNG bytes of an 8-bit image with 1..4 channels.
+inline std::string format_png(const image8& img, std::string_view name = "PNG") { return detail::encode_png(img, {}, name); }
+/// PNG bytes of an 8-bit image with 1..4 channels, with the options' pHYs chunk.
+inline std::string format_png(const image8& img, const png_options& opt, std::string_view name = "PNG") {
+    return detail::encode_png(img, opt, name);
+}
+/// PNG bytes of a 16-bit image with 1..4 channels (stored at 16 bits per sample).
+inline std::string format_png(const image16& img, const png_options& opt = {}, std::string_view name = "PNG") {
+    return detail::encode_png(img, opt, name);
+}
+
+/// Writes an 8-bit image with 1..4 channels as PNG (atomically), e.g.
+/// write_png("slice.png", img, {.pixel_mm = 0.05}). Throws invalid_input for an empty or
+/// inconsistent image or a bad pixel size, io_error if writing fails.
+inline void write_png(const std::filesystem::path& path, const image8& img, const png_options& opt = {}) {
+    detail::atomic_write(path, detail::encode_png(img, opt, path.string()));
+}
+/// Writes a 16-bit image with 1..4 channels as a 16-bit PNG (atomically); see above.
+inline void write_png(const std::filesystem::path& path, const image16& img, const png_options& opt = {}) {
+    detail::atomic_write(path, detail::encode_png(img, opt, path.string()));
 }
 
 // ---------------------------------------------------------------------------------------- PGM

@@ -2,12 +2,17 @@
 /// @file vtk.hpp  Legacy VTK files (version 3.0) that ParaView opens: meshes, unstructured grids
 /// and regular grids with per-point / per-cell fields; reading of STRUCTURED_POINTS.
 ///
-/// Binary files store big-endian numbers as the legacy format requires (doubles for coordinates
-/// and fields, int32 for connectivity); ASCII files print shortest exact decimals, so both
-/// encodings round-trip doubles exactly. All writers are atomic and throw invalid_input (naming
-/// the file) for inconsistent input: field sizes != count * components, non-finite values, empty
-/// field names, node ids out of range, node counts that do not fit the cell type. Spaces and other
-/// special bytes in field names are escaped as %XX, as VTK itself does.
+/// Binary files store big-endian numbers as the legacy format requires (doubles for coordinates,
+/// int32 for connectivity, each field in its own vtk_type); ASCII files print shortest exact
+/// decimals, so both encodings round-trip every type exactly. Field values are held as doubles;
+/// `type` chooses how the file stores them: unsigned_char (1 byte: masks, labels), unsigned_short,
+/// int, float (4 bytes: normals, densities) or double (8 bytes, the default). A 512^3 mask thus
+/// takes 128 MiB as unsigned_char instead of 1 GiB as double. All writers are atomic and throw
+/// invalid_input (naming the file) for inconsistent input: field sizes != count * components,
+/// non-finite values, values the field's type cannot hold (integer types: whole numbers in range;
+/// float: |x| <= FLT_MAX, stored rounded to the nearest float), empty field names, node ids out
+/// of range, node counts that do not fit the cell type. Spaces and other special bytes in field
+/// names are escaped as %XX, as VTK itself does.
 ///
 /// Fields with 1..4 components are written as SCALARS (with LOOKUP_TABLE default); others (e.g.
 /// 6 stress components) as FIELD arrays. Both show up as arrays in ParaView, in the given order.
@@ -17,8 +22,10 @@
 ///   g.dims = {nx, ny, nz};
 ///   g.spacing = fabsynth::vec3(0.5);
 ///   g.fields.push_back({"density", 1, values});        // values.size() == g.value_count()
+///   g.fields.push_back({"solid", 1, mask, fabsynth::io::vtk_type::uint8});   // 0/1 as bytes
 ///   fabsynth::io::write_vtk("density.vtk", g);
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -38,12 +45,36 @@
 
 namespace fabsynth::io {
 
+/// How a field's values are stored in the file (legacy VTK data type in brackets).
+enum class vtk_type : std::uint8_t {
+    float64,  ///< [double] 8 bytes, exact for any double (the default)
+    float32,  ///< [float] 4 bytes, values rounded to the nearest float
+    int32,    ///< [int] 4 bytes, whole numbers in [-2^31, 2^31)
+    uint16,   ///< [unsigned_short] 2 bytes, whole numbers in [0, 65535]
+    uint8,    ///< [unsigned_char] 1 byte, whole numbers in [0, 255] (masks, labels)
+};
+
+/// The legacy VTK name of a type ("double", "float", "int", "unsigned_short", "unsigned_char").
+[[nodiscard]] constexpr std::string_view vtk_type_name(vtk_type t) noexcept {
+    switch (t) {
+        case vtk_type::float64: return "double";
+        case vtk_type::float32: return "float";
+        case vtk_type::int32: return "int";
+        case vtk_type::uint16: return "unsigned_short";
+        case vtk_type::uint8: return "unsigned_char";
+    }
+    return "double";
+}
+
 /// A named array attached to points or cells: values.size() == count * components, tuple-major
-/// (the components of item i are values[i*components .. i*components+components-1]).
+/// (the components of item i are values[i*components .. i*components+components-1]), stored in
+/// the file as `type`. The reader sets `type` from the file: unsigned_char, unsigned_short, int,
+/// float and double map to their own type, char and short to int32, wider integers to float64.
 struct vtk_field {
     std::string name;
     int components = 1;
     std::vector<double> values;
+    vtk_type type = vtk_type::float64;
     friend bool operator==(const vtk_field&, const vtk_field&) = default;
 };
 
@@ -107,6 +138,23 @@ public:
         sep();
         append_number(out_, x);
     }
+    /// A field value in its type (already checked to fit, see check_vtk_fields).
+    void value(double x, vtk_type t) {
+        if (bin_) {
+            const auto be = byte_order::big;
+            switch (t) {
+                case vtk_type::float64: return store(out_, x, be);
+                case vtk_type::float32: return store(out_, static_cast<float>(x), be);
+                case vtk_type::int32: return store(out_, static_cast<std::int32_t>(x), be);
+                case vtk_type::uint16: return store(out_, static_cast<std::uint16_t>(x), be);
+                case vtk_type::uint8: out_ += static_cast<char>(static_cast<std::uint8_t>(x)); return;
+            }
+        }
+        sep();
+        if (t == vtk_type::float64) append_number(out_, x);
+        else if (t == vtk_type::float32) append_float(out_, static_cast<float>(x));
+        else append_number(out_, static_cast<std::int64_t>(x));
+    }
     /// Ends a data block (newline in both encodings: VTK expects one after binary data).
     void end_block() {
         out_ += '\n';
@@ -143,9 +191,25 @@ inline void check_vtk_fields(const std::vector<vtk_field>& fields, std::uint64_t
         if (f.values.size() != count * static_cast<std::uint64_t>(f.components))
             throw invalid_input(what + ": has " + std::to_string(f.values.size()) + " values, expected " +
                                 std::to_string(count) + " x " + std::to_string(f.components));
-        for (std::size_t i = 0; i < f.values.size(); ++i)
-            if (!std::isfinite(f.values[i]))
-                throw invalid_input(what + ": value " + std::to_string(i) + " is not finite");
+        double lo = 0, hi = 0;  // range of the integer types
+        switch (f.type) {
+            case vtk_type::int32: lo = -2147483648.0, hi = 2147483647.0; break;
+            case vtk_type::uint16: hi = 65535; break;
+            case vtk_type::uint8: hi = 255; break;
+            default: break;
+        }
+        const bool integral = f.type != vtk_type::float64 && f.type != vtk_type::float32;
+        for (std::size_t i = 0; i < f.values.size(); ++i) {
+            const double x = f.values[i];
+            if (!std::isfinite(x)) throw invalid_input(what + ": value " + std::to_string(i) + " is not finite");
+            if (f.type == vtk_type::float32 && std::abs(x) > static_cast<double>(FLT_MAX))
+                throw invalid_input(what + ": value " + std::to_string(i) + " (" + std::to_string(x) + ") does not fit a float");
+            if (integral && !(x >= lo && x <= hi && x == std::floor(x)))
+                throw invalid_input(what + ": value " + std::to_string(i) + " (" + std::to_string(x) + ") is not a whole number in [" +
+                                    std::to_string(static_cast<std::int64_t>(lo)) + ", " +
+                                    std::to_string(static_cast<std::int64_t>(hi)) + "] for type " +
+                                    std::string(vtk_type_name(f.type)));
+        }
     }
 }
 
@@ -174,13 +238,15 @@ inline void write_vtk_fields(vtk_out& o, std::string_view section, std::uint64_t
     if (fields.empty()) return;
     o.text(std::string(section) + " " + std::to_string(count) + "\n");
     for (const vtk_field& f : fields) {
+        const std::string type(vtk_type_name(f.type));
         if (f.components <= 4)
-            o.text(std::string("SCALARS ") + vtk_encode_name(f.name) + " double " + std::to_string(f.components) + "\nLOOKUP_TABLE default\n");
+            o.text(std::string("SCALARS ") + vtk_encode_name(f.name) + " " + type + " " + std::to_string(f.components) +
+                   "\nLOOKUP_TABLE default\n");
         else
             o.text(std::string("FIELD FieldData 1\n") + vtk_encode_name(f.name) + " " + std::to_string(f.components) + " " + std::to_string(count) +
-                   " double\n");
+                   " " + type + "\n");
         for (std::size_t i = 0; i < f.values.size(); ++i) {
-            o.real(f.values[i]);
+            o.value(f.values[i], f.type);
             if ((i + 1) % static_cast<std::size_t>(f.components) == 0) o.end_row();
         }
         if (o.binary()) o.end_block();
@@ -352,11 +418,34 @@ inline std::string vtk_decode_name(std::string_view s) {
     return out;
 }
 
-/// Reads `count` tuples of `comps` values of VTK type `type` (ASCII tokens or big-endian bytes).
+/// The vtk_type a legacy data type is read as (see vtk_field), and for integer types the range
+/// their ASCII values must lie in.
+struct vtk_read_type {
+    vtk_type as = vtk_type::float64;
+    bool integral = false;
+    double lo = 0, hi = 0;
+};
+[[nodiscard]] inline vtk_read_type vtk_read_type_of(std::string_view t) noexcept {
+    if (t == "unsigned_char") return {vtk_type::uint8, true, 0, 255};
+    if (t == "char") return {vtk_type::int32, true, -128, 127};
+    if (t == "unsigned_short") return {vtk_type::uint16, true, 0, 65535};
+    if (t == "short") return {vtk_type::int32, true, -32768, 32767};
+    if (t == "int") return {vtk_type::int32, true, -2147483648.0, 2147483647.0};
+    if (t == "unsigned_int") return {vtk_type::float64, true, 0, 4294967295.0};
+    if (t == "float") return {vtk_type::float32, false, 0, 0};
+    if (t == "double") return {vtk_type::float64, false, 0, 0};
+    return {vtk_type::float64, true, -18446744073709551616.0, 18446744073709551616.0};  // 64-bit integers
+}
+
+/// Reads `count` tuples of `comps` values of VTK type `type` (ASCII tokens or big-endian bytes);
+/// `as` receives the vtk_type the values are kept as. ASCII values of integer types must be
+/// whole numbers in the type's range; ASCII floats are rounded to float, as binary ones are.
 inline std::vector<double> read_vtk_values(token_cursor& c, bool binary, std::string_view type, std::uint64_t count,
-                                           std::uint64_t comps, std::string_view what) {
+                                           std::uint64_t comps, std::string_view what, vtk_type& as) {
     const std::size_t size = vtk_type_size(type);
     if (!size) c.fail(std::string("unsupported data type ") + quote(type) + " for " + std::string(what));
+    const vtk_read_type rt = vtk_read_type_of(type);
+    as = rt.as;
     if (comps == 0 || comps > max_vtk_values || count * comps > max_vtk_values)
         throw invalid_input(std::string(c.name()) + ":" + std::to_string(c.line()) + ": " + std::string(what) + " has " +
                             std::to_string(count) + " x " + std::to_string(comps) + " values, more than the limit of 2^31");
@@ -366,7 +455,17 @@ inline std::vector<double> read_vtk_values(token_cursor& c, bool binary, std::st
         if (n > c.remaining() / 2 + 1)
             c.fail(std::string(what) + " needs " + std::to_string(n) + " values but the file is too short");
         v.reserve(static_cast<std::size_t>(n));
-        for (std::uint64_t i = 0; i < n; ++i) v.push_back(c.finite(c.require(std::string(what) + " values"), what));
+        for (std::uint64_t i = 0; i < n; ++i) {
+            const std::string_view t = c.require(std::string(what) + " values");
+            double x = c.finite(t, what);
+            if (rt.integral && !(x >= rt.lo && x <= rt.hi && x == std::floor(x)))
+                c.fail(std::string(what) + " value " + quote(t) + " is not a whole number in the range of " + std::string(type));
+            if (rt.as == vtk_type::float32) {
+                if (std::abs(x) > static_cast<double>(FLT_MAX)) c.fail(std::string(what) + " value " + quote(t) + " does not fit a float");
+                x = static_cast<double>(static_cast<float>(x));
+            }
+            v.push_back(x);
+        }
         return v;
     }
     c.end_line(std::string(what) + " header");  // binary data starts after this newline
@@ -400,7 +499,8 @@ inline std::vector<double> read_vtk_values(token_cursor& c, bool binary, std::st
 
 /// Parses legacy VTK STRUCTURED_POINTS bytes (ASCII or BINARY) with POINT_DATA or CELL_DATA
 /// holding SCALARS (optionally with LOOKUP_TABLE), VECTORS, NORMALS, TENSORS and FIELD arrays.
-/// All values are converted to double. Throws invalid_input for grids of more than 2^31 points
+/// All values are converted to double; each field's `type` tells how the file stored them, so
+/// writing the grid again keeps the file's types (see vtk_field). Throws invalid_input for grids of more than 2^31 points
 /// (before allocating) and io_error "FILE:LINE" / "FILE: byte N" for anything malformed.
 inline structured_points parse_vtk_structured_points(std::string_view bytes, std::string_view name) {
     using detail::quote;
@@ -465,7 +565,8 @@ inline structured_points parse_vtk_structured_points(std::string_view bytes, std
                 c.next();
                 c.require_on_line("lookup table name");
             }
-            f.values = detail::read_vtk_values(c, binary, type, count, static_cast<std::uint64_t>(f.components), std::string("SCALARS ") + f.name);
+            f.values = detail::read_vtk_values(c, binary, type, count, static_cast<std::uint64_t>(f.components), std::string("SCALARS ") + f.name,
+                                               f.type);
             g.fields.push_back(std::move(f));
         } else if (t == "VECTORS" || t == "NORMALS" || t == "TENSORS") {
             vtk_field f;
@@ -473,7 +574,7 @@ inline structured_points parse_vtk_structured_points(std::string_view bytes, std
             f.components = t == "TENSORS" ? 9 : 3;
             const std::string_view type = c.require_on_line("data type");
             f.values = detail::read_vtk_values(c, binary, type, count, static_cast<std::uint64_t>(f.components),
-                                               std::string(t) + " " + f.name);
+                                               std::string(t) + " " + f.name, f.type);
             g.fields.push_back(std::move(f));
         } else if (t == "FIELD") {
             c.require_on_line("field name");
@@ -487,7 +588,7 @@ inline structured_points parse_vtk_structured_points(std::string_view bytes, std
                     c.fail(std::string("FIELD array '") + f.name + "' has " + std::to_string(tuples) + " tuples, expected " + std::to_string(count));
                 const std::string_view type = c.require_on_line("data type");
                 f.values = detail::read_vtk_values(c, binary, type, count, static_cast<std::uint64_t>(f.components),
-                                                   std::string("FIELD array ") + f.name);
+                                                   std::string("FIELD array ") + f.name, f.type);
                 g.fields.push_back(std::move(f));
             }
         } else if (t == "METADATA") {

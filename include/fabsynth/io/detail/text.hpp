@@ -63,6 +63,12 @@ inline void append_number(std::string& out, double x) {
     const auto r = std::to_chars(buf, buf + sizeof buf, x);
     out.append(buf, static_cast<std::size_t>(r.ptr - buf));  // (ptr, len): the (first, last) overload trips a GCC 12 -Wrestrict false positive
 }
+/// Appends the shortest decimal that reads back (as a float) as exactly x. x must be finite.
+inline void append_float(std::string& out, float x) {
+    char buf[24];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    out.append(buf, static_cast<std::size_t>(r.ptr - buf));
+}
 inline void append_number(std::string& out, std::int64_t x) {
     char buf[24];
     const auto r = std::to_chars(buf, buf + sizeof buf, x);
