@@ -1,0 +1,86 @@
+#pragma once
+/// @file points.hpp  Point lists as text: one point per line, coordinates separated by commas
+/// and/or blanks ("x,y,z" or "x y z", mm); blank lines and lines starting with '#' are skipped.
+///
+/// Every coordinate must be a complete decimal number ("1.2.3" and "4x" are refused, not read as
+/// 1.2 or 4) and finite; a line must hold exactly three of them. Errors name the file and line.
+///
+/// Usage:
+///   std::vector<fabsynth::vec3> pts = fabsynth::io::read_points_csv("in.csv");
+///   fabsynth::io::write_points_csv("out.csv", pts);            // shortest round-trip decimals, atomic
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/types.hpp"
+#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/detail/read_file.hpp"
+
+namespace fabsynth::io {
+
+/// Parses points from memory (`name` is used in error messages).
+[[nodiscard]] inline std::vector<vec3> parse_points_csv(std::string_view text, const std::string& name) {
+    std::vector<vec3> pts;
+    std::size_t line_no = 0, pos = 0;
+    while (pos < text.size()) {
+        const std::size_t end = std::min(text.find('\n', pos), text.size());
+        std::string_view line = text.substr(pos, end - pos);
+        pos = end + 1;
+        ++line_no;
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        const std::size_t first = line.find_first_not_of(" \t");
+        if (first == std::string_view::npos || line[first] == '#') continue;
+        double c[3];
+        int n = 0;
+        std::size_t i = first;
+        while (i < line.size()) {
+            while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == ',')) ++i;
+            if (i == line.size()) break;
+            std::size_t j = i;
+            while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != ',') ++j;
+            const std::string_view tok = line.substr(i, j - i);
+            if (n == 3) throw io_error(name, line_no, "more than three coordinates on the line");
+            const char* b = tok.data() + (tok.front() == '+' ? 1 : 0);
+            const auto [ptr, ec] = std::from_chars(b, tok.data() + tok.size(), c[n]);
+            if (ec != std::errc() || ptr != tok.data() + tok.size())
+                throw io_error(name, line_no, "'" + std::string(tok) + "' is not a number");
+            if (!std::isfinite(c[n])) throw io_error(name, line_no, "coordinate '" + std::string(tok) + "' is not finite");
+            ++n;
+            i = j;
+        }
+        if (n != 3) throw io_error(name, line_no, "expected three coordinates x,y,z, found " + std::to_string(n));
+        pts.emplace_back(c[0], c[1], c[2]);
+    }
+    return pts;
+}
+
+/// Reads a point file (see the file comment). Throws io_error naming the file (and line).
+[[nodiscard]] inline std::vector<vec3> read_points_csv(const std::filesystem::path& path) {
+    return parse_points_csv(detail::read_file(path), path.string());
+}
+
+/// "x,y,z" lines with the shortest decimals that read back to the same doubles.
+[[nodiscard]] inline std::string format_points_csv(const std::vector<vec3>& pts) {
+    std::string s;
+    s.reserve(pts.size() * 40);
+    char buf[32];
+    for (const vec3& p : pts)
+        for (int a = 0; a < 3; ++a) {
+            const auto r = std::to_chars(buf, buf + sizeof buf, p[a]);
+            s.append(buf, r.ptr);
+            s += a < 2 ? ',' : '\n';
+        }
+    return s;
+}
+
+/// Writes format_points_csv(pts) atomically (temporary file + rename).
+inline void write_points_csv(const std::filesystem::path& path, const std::vector<vec3>& pts) {
+    detail::atomic_write(path, format_points_csv(pts));
+}
+
+}  // namespace fabsynth::io
