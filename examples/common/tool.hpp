@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The convention every fabsynth tool follows (docs/tools.md): exit codes, the catch-all that ends
 // every failure in a `fabsynth:` message, --version, --quiet, --json, defaults in --help, and

@@ -10,7 +10,7 @@
 // the curve. The pattern is synthesized in the curve's (u, v) parameter domain
 // (vector_pattern/synthesis.hpp), mapped onto the curve (vector_pattern/band_map.hpp) and extruded to a
 // watertight slab tessellated in the parameter domain (geometry/extrude.hpp, §6.3).
-// Outputs: OUT.svg (filled shapes only), OUT.stl (T mm thick, the SVG's y axis flipped so the print
+// Outputs: OUT.svg (filled shapes only), OUT.stl and OUT.3mf (where lib3mf is available; T mm thick, the SVG's y axis flipped so the print
 // looks like the drawing), OUT.png (preview, pattern dark on white: vector_pattern/preview.hpp). Nothing is written unless
 // everything succeeded; an impossible request exits with status 3 and the reason on stderr.
 // Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
@@ -22,6 +22,9 @@
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
 #include <fabsynth/io/svg.hpp>
+#if defined(FABSYNTH_HAS_LIB3MF)
+#include <fabsynth/io/mesh_3mf.hpp>
+#endif
 #include <fabsynth/vector_pattern/band_map.hpp>
 #include <fabsynth/vector_pattern/exemplar.hpp>
 #include <fabsynth/vector_pattern/preview.hpp>
@@ -178,6 +181,10 @@ int main(int argc, char** argv) {
         if (!svg_out.parent_path().empty()) fs::create_directories(svg_out.parent_path());
         io::write_svg(svg_out, doc);
         io::write_stl(stl_out, mesh);
+#if defined(FABSYNTH_HAS_LIB3MF)
+        fs::path threemf_out = svg_out;
+        io::write_3mf(threemf_out.replace_extension(".3mf"), mesh, {.name = svg_out.stem().string()});
+#endif
         io::write_png(png_out, png);
 
         std::size_t rings = 0;

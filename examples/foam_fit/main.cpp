@@ -17,8 +17,9 @@
 // hexahedral elements of side tau, homogenized (Es = 1, nu = 0.3) and fitted with an isotropic
 // tensor; then E = P(rho, tau) (degree 4) and E/Es = C w^n on 0.04 < w < 0.5 are fitted.
 // Writes the CSV of data points, the coefficients header and the PNG plot (only those asked for);
-// prints one line per sample (stderr) and a summary (stdout). Exit code 1 on error.
-#include <CLI/CLI.hpp>
+// prints one line per sample (stderr, not with --quiet) and a summary (stdout; --json: JSON).
+// Outputs are written only at the end, after every check passed (the cache after each sample).
+// Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
 
 #include <cstdio>
 #include <filesystem>
@@ -35,6 +36,7 @@
 #include <fabsynth/io/image.hpp>
 
 #include "plot.hpp"
+#include "tool.hpp"
 
 namespace {
 // The sample cache file, if it exists (an absent cache is an empty one).
@@ -64,7 +66,8 @@ std::vector<double> parse_list(const std::string& s, const char* what) {
 
 int main(int argc, char** argv) {
     using namespace fabsynth;
-    CLI::App app{"Homogenize periodic procedural Voronoi foams over a (rho, tau) grid and fit E = P(rho, tau)"};
+    CLI::App app{"Homogenize periodic procedural Voronoi foams over a (rho, tau) grid and fit E = P(rho, tau)", "foam_fit"};
+    tool::common common(app);
     foam::elasticity_fit_config c;
     std::string csv_path, header_path, plot_path, cache_path;
     std::string taus = "0.2,0.225,0.25,0.275,0.3", pairs;
@@ -91,9 +94,8 @@ int main(int argc, char** argv) {
     app.add_option("--header", header_path, "generated coefficients header to write");
     app.add_option("--plot", plot_path, "PNG plot to write");
     app.add_option("--cache", cache_path, "sample cache (reused and extended; lets a run resume)");
-    CLI11_PARSE(app, argc, argv);
-    c.fit = objective == "absolute" ? foam::fit_error::absolute : foam::fit_error::relative;
-    try {
+    return tool::run(app, common, argc, argv, [&] {
+        c.fit = objective == "absolute" ? foam::fit_error::absolute : foam::fit_error::relative;
         set_num_threads(threads);
         if (!pairs.empty()) {
             std::stringstream ss(pairs);
@@ -117,6 +119,11 @@ int main(int argc, char** argv) {
             }
         }
         c.validate();
+        // The header needs the degree-4 polynomial: refuse before any work if it cannot be fitted.
+        constexpr std::size_t polynomial_terms = 15;
+        if (!header_path.empty() && c.pairs.size() * static_cast<std::size_t>(c.seeds_per_pair) < polynomial_terms)
+            throw invalid_input("foam_fit: --header needs at least " + std::to_string(polynomial_terms) + " samples for the degree-4 fit, the grid has " +
+                                std::to_string(c.pairs.size() * static_cast<std::size_t>(c.seeds_per_pair)));
         foam::sample_cache cache;
         if (!cache_path.empty()) cache = read_cache(cache_path);
         auto progress = [&](const foam::homogenized_sample& r, std::size_t index, std::size_t total, bool computed) {
@@ -128,32 +135,43 @@ int main(int argc, char** argv) {
                           index, total, r.s.density, r.s.radius, static_cast<unsigned long long>(r.s.seed), r.s.volume_fraction,
                           r.s.E, r.s.nu, r.s.anisotropy, r.removed_fraction, static_cast<long long>(r.period), r.iterations,
                           r.cached ? "(cached)" : "", r.seconds);
-            std::cerr << buf << std::endl;
+            if (!common.quiet()) std::cerr << buf << std::endl;
         };
         const foam::elasticity_fit_report r = foam::run_elasticity_fit(c, &cache, progress);
         if (!csv_path.empty()) io::detail::atomic_write(csv_path, foam::format_samples_csv(r.samples));
         if (!header_path.empty()) io::detail::atomic_write(header_path, foam::format_elasticity_fit_header(c, r));
         if (!plot_path.empty()) io::write_png(plot_path, foam_fit_plot::draw_plot(c, r));
-        std::printf("samples %zu (%zu pairs x %d seeds), %d^3 elements, supersample %d\n", r.samples.size(), c.pairs.size(),
-                    c.seeds_per_pair, c.elements, c.supersample);
+        std::ostringstream out;
+        char buf[512];
+        std::snprintf(buf, sizeof buf, "samples %zu (%zu pairs x %d seeds), %d^3 elements, supersample %d\n", r.samples.size(), c.pairs.size(),
+                      c.seeds_per_pair, c.elements, c.supersample);
+        out << buf;
         if (!r.P.coeffs.empty()) {
-            std::printf("degree-4 polynomial E = P(rho, tau), %s residuals: max deviation %.3f%% of E (paper: 3.3%%; the other "
-                        "objective: %.3f%%)\ncoefficients:",
-                        objective.c_str(), 100 * r.max_deviation, 100 * r.max_deviation_other);
-            for (double x : r.P.coeffs) std::printf(" %.9g", x);
-            std::printf("\n");
+            std::snprintf(buf, sizeof buf,
+                          "degree-4 polynomial E = P(rho, tau), %s residuals: max deviation %.3f%% of E (paper: 3.3%%; the other "
+                          "objective: %.3f%%)\ncoefficients:",
+                          objective.c_str(), 100 * r.max_deviation, 100 * r.max_deviation_other);
+            out << buf;
+            for (double x : r.P.coeffs) std::snprintf(buf, sizeof buf, " %.9g", x), out << buf;
+            out << "\n";
         } else {
-            std::printf("too few samples for the degree-4 polynomial (need 15)\n");
+            out << "too few samples for the degree-4 polynomial (need 15)\n";
         }
         if (r.gibson_ashby_ok)
-            std::printf("Gibson-Ashby E/Es = C w^n on %.3g < w < %.3g (%zu samples): C = %.4f, n = %.4f (paper: 0.85, 1.95)\n", c.omega_lo,
-                        c.omega_hi, r.gibson_ashby.samples_used, r.gibson_ashby.C, r.gibson_ashby.n);
+            std::snprintf(buf, sizeof buf, "Gibson-Ashby E/Es = C w^n on %.3g < w < %.3g (%zu samples): C = %.4f, n = %.4f (paper: 0.85, 1.95)\n",
+                          c.omega_lo, c.omega_hi, r.gibson_ashby.samples_used, r.gibson_ashby.C, r.gibson_ashby.n);
         else
-            std::printf("Gibson-Ashby: fewer than two samples with %.3g < w < %.3g\n", c.omega_lo, c.omega_hi);
-        std::printf("time %.1f s\n", r.seconds);
-    } catch (const std::exception& e) {
-        std::cerr << "foam_fit: " << e.what() << "\n";
-        return 1;
-    }
-    return 0;
+            std::snprintf(buf, sizeof buf, "Gibson-Ashby: fewer than two samples with %.3g < w < %.3g\n", c.omega_lo, c.omega_hi);
+        out << buf;
+        std::snprintf(buf, sizeof buf, "time %.1f s", r.seconds);
+        out << buf;
+        common.say(out.str());
+        common.summary({{"samples", r.samples.size()},
+                        {"pairs", c.pairs.size()},
+                        {"polynomial", r.P.coeffs},
+                        {"max_deviation", r.P.coeffs.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.max_deviation)},
+                        {"gibson_ashby",
+                         r.gibson_ashby_ok ? nlohmann::ordered_json{{"C", r.gibson_ashby.C}, {"n", r.gibson_ashby.n}} : nlohmann::ordered_json(nullptr)},
+                        {"seconds", r.seconds}});
+    });
 }

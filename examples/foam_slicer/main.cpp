@@ -9,23 +9,33 @@
 // foam options: --density RHO | --density-x RHO0 RHO1 X0 X1, --radius TAU, --cell L, --seed S.
 // slice field options (the field gives seeds/mm^3, or E/Es with --elasticity):
 //   --field-axis AXIS V0 V1 C0 C1        linear along axis 0/1/2 between coordinates C0 and C1
-//   --field-image PNG X0 Y0 X1 Y1 V0 V1   grayscale image on the rectangle [X0,X1]x[Y0,Y1] of every
-//                                         z-plane (row 0 at Y1, i.e. the picture as seen from +z)
+//   --field-image PNG --field-rect X0 Y0 X1 Y1 V0 V1
+//                                         grayscale image on the rectangle [X0,X1]x[Y0,Y1] of every
+//                                         z-plane (row 0 at Y1, i.e. the picture as seen from +z),
+//                                         black = V0, white = V1
 //   --field-surface V_NEAR V_FAR DEPTH     V_NEAR at the surface, linear to V_FAR at DEPTH mm inside
 //   --elasticity                          values are relative Young's moduli E/Es, mapped to density
 //                                         at tau = --radius by the shipped homogenization fit
 //                                         E = P(rho, tau) (foam/elasticity_fit.hpp, paper §4.2);
 //                                         --radius must lie in the fitted radius range, and targets
 //                                         outside the reachable range are clamped (with a note).
-// Outputs of slice: DIR/slice_NNNNN.png (255 = solid), DIR/preview.png, optional DIR/foam.stl
-// (marching cubes of the sub-box) and DIR/beams.vtk (beam network: lines + radius per line).
-#include <CLI/CLI.hpp>
+// Outputs of slice: DIR/slice_NNNNN.png (255 = solid; pixel size in the PNG's pHYs chunk),
+// DIR/slices.json (pixel size, layer height, origin, count and file of every slice, written
+// last: a stack without it is incomplete), DIR/preview.png, optional DIR/foam.stl (marching cubes
+// of the sub-box; also foam.3mf where lib3mf is available) and DIR/beams.vtk (beam network: lines
+// + radius per line). Every option is checked before the first file is written.
+// Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
 
 #include <fabsynth/foam.hpp>
 #include <fabsynth/geometry/distance.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
+#include <fabsynth/io/points.hpp>
 #include <fabsynth/io/vtk.hpp>
+#include <fabsynth/io/detail/atomic_file.hpp>
+#if defined(FABSYNTH_HAS_LIB3MF)
+#include <fabsynth/io/mesh_3mf.hpp>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -34,9 +44,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "tool.hpp"
 
 namespace fs = std::filesystem;
 using namespace fabsynth;
@@ -74,40 +87,19 @@ value_field field_from(const foam_args& a) {
     return {f};
 }
 
-std::vector<vec3> read_points(const fs::path& path) {
-    std::ifstream in(path);
-    if (!in) throw io_error(path.string(), 0, "cannot open");
-    std::vector<vec3> pts;
-    std::string line;
-    std::size_t ln = 0;
-    while (std::getline(in, line)) {
-        ++ln;
-        if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-        std::replace(line.begin(), line.end(), ',', ' ');
-        std::istringstream ss(line);
-        vec3 p;
-        if (!(ss >> p.x >> p.y >> p.z)) throw io_error(path.string(), ln, "expected x,y,z");
-        if (!all_finite(p)) throw io_error(path.string(), ln, "coordinate is not finite");
-        pts.push_back(p);
-    }
-    return pts;
-}
-
-void write_text(const fs::path& path, const std::string& s) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out || !(out << s)) throw io_error(path.string(), 0, "cannot write");
-}
-
-std::string fmt(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
+// A box given as X0 Y0 Z0 X1 Y1 Z1 on the command line; refused unless finite with X0 < X1 etc.
+box3 box_option(const std::vector<double>& v, const char* option) {
+    const box3 b({v[0], v[1], v[2]}, {v[3], v[4], v[5]});
+    if (!all_finite(b.lo) || !all_finite(b.hi) || !(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z))
+        throw invalid_input(std::string(option) + ": need finite X0 < X1, Y0 < Y1, Z0 < Z1");
     return b;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"foam_slicer: procedural Voronoi foams (seeds, point evaluation, slicing a mesh)"};
+    CLI::App app{"foam_slicer: procedural Voronoi foams (seeds, point evaluation, slicing a mesh)", "foam_slicer"};
+    tool::common common(app);
     app.require_subcommand(1);
     foam_args fa;
 
@@ -153,37 +145,48 @@ int main(int argc, char** argv) {
     slice_cmd->add_option("--beams-box", beams_box, "X0 Y0 Z0 X1 Y1 Z1: export the beam network as beams.vtk")
         ->expected(6);
 
-    CLI11_PARSE(app, argc, argv);
-    try {
+    return tool::run(app, common, argc, argv, [&] {
+        auto progress = common.progress();
         if (seeds_cmd->parsed() || eval_cmd->parsed()) {
             const density_field rho{field_from(fa)};
             const voronoi_foam f(rho, constant_field{fa.radius}, {.cell = fa.cell, .seed = fa.seed});
-            std::string text;
             if (seeds_cmd->parsed()) {
-                const box3 b({box[0], box[1], box[2]}, {box[3], box[4], box[5]});
-                for (const vec3& s : f.seeds().seeds_in_box(b)) text += fmt(s.x) + "," + fmt(s.y) + "," + fmt(s.z) + "\n";
+                const std::vector<vec3> seeds = f.seeds().seeds_in_box(box_option(box, "--box"));
+                io::write_points_csv(out, seeds);
+                common.say("foam_slicer seeds: " + std::to_string(seeds.size()) + " seeds -> " + out);
+                common.summary({{"command", "seeds"}, {"seeds", seeds.size()}, {"outputs", {out}}});
             } else {
-                const auto pts = read_points(points);
+                const auto pts = io::read_points_csv(points);
                 std::vector<char> r(pts.size());
                 parallel_for(0, pts.size(), [&](std::size_t i) { r[i] = f.contains(pts[i]) ? '1' : '0'; },
                              {.grain = 256});
+                std::string text;
                 text.reserve(2 * pts.size());
-                for (char c : r) text += c, text += '\n';
+                std::size_t inside = 0;
+                for (char c : r) text += c, text += '\n', inside += c == '1';
+                io::detail::atomic_write(out, text);
+                common.say("foam_slicer eval: " + std::to_string(inside) + " of " + std::to_string(pts.size()) + " points solid -> " + out);
+                common.summary({{"command", "eval"}, {"points", pts.size()}, {"solid", inside}, {"outputs", {out}}});
             }
-            write_text(out, text);
-            return 0;
+            return;
         }
 
-        // ---- slice ----
+        // ---- slice ---- every option is checked before the first file is written
+        require_positive(pixel, "--pixel");
+        if (!(layer >= 0) || !std::isfinite(layer)) throw invalid_input("--layer must be finite and >= 0 mm (0 = the pixel size)");
+        if (nslices < 0) throw invalid_input("--slices must be >= 0 (0 = every layer)");
+        if (supersample < 1 || supersample > 16) throw invalid_input("--supersample must be in [1, 16]");
+        if (!(size >= 0) || !std::isfinite(size)) throw invalid_input("--size must be finite and >= 0 mm (0 = as is)");
+        if (field_axis.size() == 5 && field_axis[0] != std::floor(field_axis[0]))
+            throw invalid_input("--field-axis: AXIS must be 0, 1 or 2");
+        std::optional<box3> stl_region, beams_region;
+        if (stl_box.size() == 6) stl_region = box_option(stl_box, "--stl-box"), require_positive(stl_voxel, "--stl-voxel");
+        if (beams_box.size() == 6) beams_region = box_option(beams_box, "--beams-box");
+        progress(0.0, "read mesh");
         triangle_mesh mesh = io::read_mesh(mesh_path);
         validate(mesh, mesh_path.c_str());
-        if (y_up)
-            for (auto& v : mesh.vertices) v = vec3(v.x, -v.z, v.y);  // rotation about x: keeps orientation
-        if (size > 0) {
-            const box3 bb = bounding_box(mesh);
-            const double s = size / std::max({bb.size().x, bb.size().y, bb.size().z});
-            for (auto& v : mesh.vertices) v = (v - bb.lo) * s;
-        }
+        if (y_up) rotate_y_up_to_z_up(mesh);
+        if (size > 0) fit_to_size(mesh, size);
         const mesh_distance md(mesh);
         md.require_watertight();
         value_field values = field_from(fa);
@@ -224,7 +227,6 @@ int main(int argc, char** argv) {
             fo.cuts.push_back({{cut_list[i], cut_list[i + 1], cut_list[i + 2]}, {cut_list[i + 3], cut_list[i + 4], cut_list[i + 5]}});
         const framed_foam obj(foam, md, fo);
 
-        fs::create_directories(out_dir);
         const box3 bb = bounding_box(mesh);
         const slice_stack stack = plan_slice_stack(bb, pixel, layer, nslices);
         const box2& region = stack.region;
@@ -233,6 +235,9 @@ int main(int argc, char** argv) {
         std::uint64_t pixels = 0, solid = 0;
         double total_ms = 0;
         std::vector<image8> preview;
+        fs::create_directories(out_dir);
+        fs::remove(fs::path(out_dir) / "slices.json");  // the manifest marks a complete stack: written last
+        nlohmann::ordered_json files = nlohmann::ordered_json::array();
         for (std::size_t s = 0; s < which.size(); ++s) {
             const double z = stack.z(which[s]);
             const auto t0 = std::chrono::steady_clock::now();
@@ -242,47 +247,59 @@ int main(int argc, char** argv) {
             for (auto v : img.data) solid += v;
             char name[64];
             std::snprintf(name, sizeof name, "slice_%05d.png", which[s]);
-            io::write_png(fs::path(out_dir) / name, img);
+            io::write_png(fs::path(out_dir) / name, img, {.pixel_mm = pixel});
+            files.push_back({{"layer", which[s]}, {"z_mm", z}, {"file", name}});
             // preview: 4 slices spread over the stack
             if (preview.size() < 4 && s == (preview.size() * which.size()) / 4) preview.push_back(img);
-            std::cerr << "\rslice " << (s + 1) << "/" << which.size() << std::flush;
+            progress(static_cast<double>(s + 1) / static_cast<double>(which.size()), "slices");
         }
-        std::cerr << "\n";
-        // preview: up to 4 slices side by side
-        if (!preview.empty()) {
-            const int w = preview[0].width, h = preview[0].height;
-            image8 p(w * static_cast<int>(preview.size()) + 4 * static_cast<int>(preview.size() - 1), h, 1, 128);
-            for (std::size_t k = 0; k < preview.size(); ++k)
-                for (int j = 0; j < h; ++j)
-                    for (int i = 0; i < w; ++i)
-                        p.at(static_cast<int>(k) * (w + 4) + i, h - 1 - j) = preview[k].at(i, j);  // +y up
-            io::write_png(fs::path(out_dir) / "preview.png", p);
-        }
-        if (stl_box.size() == 6) {
-            const box3 sb({stl_box[0], stl_box[1], stl_box[2]}, {stl_box[3], stl_box[4], stl_box[5]});
-            require_positive(stl_voxel, "--stl-voxel");
-            const triangle_mesh m = framed_foam_mesh(obj, sb, stl_voxel);
+        // preview: up to 4 slices side by side, +y up
+        if (!preview.empty())
+            io::write_png(fs::path(out_dir) / "preview.png", side_by_side(preview, 4, std::uint8_t{128}, true), {.pixel_mm = pixel});
+        std::size_t stl_triangles = 0, beam_count = 0;
+        if (stl_region) {
+            progress(0.0, "foam.stl");
+            const triangle_mesh m = framed_foam_mesh(obj, *stl_region, stl_voxel);
             io::write_mesh(fs::path(out_dir) / "foam.stl", m);
-            std::cerr << "foam.stl: " << m.faces.size() << " triangles\n";
+#if defined(FABSYNTH_HAS_LIB3MF)
+            io::write_3mf(fs::path(out_dir) / "foam.3mf", m, {.name = "foam"});
+#endif
+            stl_triangles = m.faces.size();
+            if (!common.quiet()) std::cerr << "foam.stl: " << m.faces.size() << " triangles\n";
         }
-        if (beams_box.size() == 6) {
-            const box3 b({beams_box[0], beams_box[1], beams_box[2]}, {beams_box[3], beams_box[4], beams_box[5]});
-            const beam_network net = extract_beams(foam, b);
+        if (beams_region) {
+            const beam_network net = extract_beams(foam, *beams_region);
             std::vector<io::vtk_cell> cells;
             for (const auto& e : net.edges) cells.push_back({io::vtk_cell_type::line, {e[0], e[1]}});
             io::write_vtk_unstructured(fs::path(out_dir) / "beams.vtk", net.nodes, cells, {},
                                        {io::vtk_field{"radius", 1, net.radii}}, io::encoding::ascii);
-            std::cerr << "beams.vtk: " << net.nodes.size() << " nodes, " << net.edges.size() << " beams\n";
+            beam_count = net.edges.size();
+            if (!common.quiet()) std::cerr << "beams.vtk: " << net.nodes.size() << " nodes, " << net.edges.size() << " beams\n";
         }
+        const nlohmann::ordered_json manifest = {{"pixel_mm", pixel},
+                                                 {"layer_mm", stack.layer},
+                                                 {"origin_mm", {region.lo.x, region.lo.y}},
+                                                 {"width_px", files.empty() ? 0 : preview[0].width},
+                                                 {"height_px", files.empty() ? 0 : preview[0].height},
+                                                 {"value", "255 = solid, 0 = empty (grey levels with --supersample)"},
+                                                 {"count", files.size()},
+                                                 {"slices", files}};
+        io::detail::atomic_write(fs::path(out_dir) / "slices.json", manifest.dump(2) + "\n");
         const double ms = total_ms / static_cast<double>(which.size());
-        std::printf("foam_slicer: %zu slices of %dx%d px (%.3f mm), %llu voxels, solid volume %.2f%%, %.1f ms/slice, %.2f Mpixel/s\n",
-                    which.size(), static_cast<int>(std::ceil((region.hi.x - region.lo.x) / pixel - 1e-9)),
-                    static_cast<int>(std::ceil((region.hi.y - region.lo.y) / pixel - 1e-9)), pixel,
-                    static_cast<unsigned long long>(pixels), 100.0 * double(solid) / 255.0 / double(std::max<std::uint64_t>(1, pixels)),
-                    ms, double(pixels) / (total_ms * 1e3));
-        return 0;
-    } catch (const fabsynth::error& e) {
-        std::cerr << e.what() << "\n";
-        return 1;
-    }
+        const double solid_percent = 100.0 * double(solid) / 255.0 / double(std::max<std::uint64_t>(1, pixels));
+        char line[256];
+        std::snprintf(line, sizeof line, "foam_slicer: %zu slices of %dx%d px (%.3f mm), %llu voxels, solid volume %.2f%%, %.1f ms/slice, %.2f Mpixel/s",
+                      which.size(), static_cast<int>(std::ceil((region.hi.x - region.lo.x) / pixel - 1e-9)),
+                      static_cast<int>(std::ceil((region.hi.y - region.lo.y) / pixel - 1e-9)), pixel,
+                      static_cast<unsigned long long>(pixels), solid_percent, ms, double(pixels) / (total_ms * 1e3));
+        common.say(line);
+        common.summary({{"command", "slice"},
+                        {"slices", which.size()},
+                        {"pixel_mm", pixel},
+                        {"solid_percent", solid_percent},
+                        {"ms_per_slice", ms},
+                        {"stl_triangles", stl_triangles},
+                        {"beams", beam_count},
+                        {"manifest", (fs::path(out_dir) / "slices.json").string()}});
+    });
 }

@@ -1,9 +1,11 @@
 // voxelize MESH --resolution N -o OUTDIR
 //
-// Writes OUTDIR/shell.vtk (voxel cells with fields shell 0/1, solid 0/1, normal), OUTDIR/solid.stl
-// (marching cubes of the solid voxels: watertight) and OUTDIR/slices.png (z-slices: shell coloured
-// by normal | solid), and prints a one-line summary (--json: a JSON summary). Conventions (exit
-// codes, --quiet, --json, --version): docs/tools.md.
+// Writes OUTDIR/shell.vtk (voxel cells with fields shell 0/1 and solid 0/1 as bytes, normal as
+// floats), OUTDIR/solid.stl (marching cubes of the solid voxels: watertight; also solid.3mf where
+// lib3mf is available) and OUTDIR/slices.png (z-slices: shell coloured by normal | solid), and
+// prints a one-line summary (--json: a JSON summary). The memory the run needs is estimated
+// before anything is allocated and refused above --max-memory. Conventions (exit codes, --quiet,
+// --json, --version): docs/tools.md.
 #include <fabsynth/core.hpp>
 #include <fabsynth/geometry/marching_cubes.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
@@ -11,6 +13,9 @@
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/vtk.hpp>
 #include <fabsynth/voxel.hpp>
+#if defined(FABSYNTH_HAS_LIB3MF)
+#include <fabsynth/io/mesh_3mf.hpp>
+#endif
 
 #include <chrono>
 #include <cstdio>
@@ -28,9 +33,9 @@ io::structured_points to_vtk(const shell_grid& shell, const voxel_grid<std::uint
     const grid_geometry& g = shell.geometry();
     io::structured_points out{.dims = g.dims + 1, .origin = g.origin, .spacing = g.spacing, .cell_data = true, .fields = {}};
     const auto n = static_cast<std::size_t>(g.count());
-    io::vtk_field is_shell{"shell", 1, std::vector<double>(n, 0.0)};
-    io::vtk_field is_solid{"solid", 1, std::vector<double>(n, 0.0)};
-    io::vtk_field normal{"normal", 3, std::vector<double>(3 * n, 0.0)};
+    io::vtk_field is_shell{"shell", 1, std::vector<double>(n, 0.0), io::vtk_type::uint8};
+    io::vtk_field is_solid{"solid", 1, std::vector<double>(n, 0.0), io::vtk_type::uint8};
+    io::vtk_field normal{"normal", 3, std::vector<double>(3 * n, 0.0), io::vtk_type::float32};
     shell.for_each([&](ivec3 p, const shell_voxel& v) {
         const auto i = static_cast<std::size_t>(g.index(p));
         is_shell.values[i] = 1.0;
@@ -40,6 +45,10 @@ io::structured_points to_vtk(const shell_grid& shell, const voxel_grid<std::uint
     out.fields = {std::move(is_shell), std::move(is_solid), std::move(normal)};
     return out;
 }
+
+// Peak bytes per voxel: the solid grid (1), the VTK fields held as doubles (5 x 8) and the file
+// image (1 + 1 + 12), rounded up.
+constexpr double bytes_per_voxel = 56;
 
 }  // namespace
 
@@ -53,6 +62,8 @@ int main(int argc, char** argv) {
     app.add_option("--padding", padding, "empty voxels added on every side")->check(CLI::Range(0, 64));
     app.add_option("--slices", slices, "z-slices shown in slices.png")->check(CLI::Range(1, 16));
     app.add_option("-o,--output", out_dir, "output directory")->required();
+    double max_memory_gib = 16;
+    app.add_option("--max-memory", max_memory_gib, "refuse runs estimated to need more memory than this (GiB)")->check(CLI::PositiveNumber);
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
@@ -61,6 +72,13 @@ int main(int argc, char** argv) {
         const triangle_mesh mesh = io::read_mesh(mesh_path);
         if (mesh.empty()) throw invalid_input(mesh_path + ": mesh has no faces");
         const grid_geometry g = fit_grid(bounding_box(mesh), resolution, padding);
+        const double estimate_gib = static_cast<double>(g.count()) * bytes_per_voxel / double(1ull << 30);
+        if (estimate_gib > max_memory_gib) {
+            char msg[256];
+            std::snprintf(msg, sizeof msg, "--resolution %d: a %dx%dx%d grid needs about %.1f GiB, more than --max-memory %.3g GiB", resolution,
+                          g.dims.x, g.dims.y, g.dims.z, estimate_gib, max_memory_gib);
+            throw invalid_input(msg);
+        }
         progress(0.1, "surface voxels");
         const shell_grid shell = voxelize_surface(mesh, g);
         progress(0.4, "solid voxels");
@@ -74,6 +92,9 @@ int main(int argc, char** argv) {
         fs::create_directories(out_dir);
         io::write_vtk(fs::path(out_dir) / "shell.vtk", to_vtk(shell, solid));
         io::write_mesh(fs::path(out_dir) / "solid.stl", remesh);
+#if defined(FABSYNTH_HAS_LIB3MF)
+        io::write_3mf(fs::path(out_dir) / "solid.3mf", remesh, {.name = fs::path(mesh_path).stem().string()});
+#endif
         io::write_png(fs::path(out_dir) / "slices.png", shell_solid_slices(shell, solid, slices));
         progress(1.0, "write");
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

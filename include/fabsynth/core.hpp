@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file core.hpp  Core vocabulary: vectors, boxes, errors, hash RNG, progress, parallel loops.
 #include "fabsynth/core/box.hpp"

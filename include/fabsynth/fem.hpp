@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file fem.hpp  Linear elastic finite elements: hex8 / wedge6 / shell3 elements, material,
 /// parallel deterministic assembly, supports and loads, sparse solver policies, stress recovery,

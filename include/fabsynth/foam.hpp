@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file foam.hpp  Procedural Voronoi foams (Martinez, Dumas & Lefebvre, SIGGRAPH 2016): graded
 /// jittered seeds (Algorithm 3), an exact per-point evaluator and a fast tiled slicer, fields from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file geometry.hpp  Geometry building blocks: meshes, polygons, Clipper booleans, distances,
 /// marching cubes, mesh topology, planar curves with a band map, triangulation, extrusion and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file graph.hpp  Umbrella header of the graph building block (namespace fabsynth::graph):
 /// CSR graphs and their voxel / mesh / polyline adaptors, shortest-path forests, forest adjacency,

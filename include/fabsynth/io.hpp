@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file io.hpp  File input/output: meshes (OBJ, STL, PLY; 3MF with fabsynth::lib3mf), images
 /// (PNG 8/16-bit with pixel size, PGM), legacy VTK, SVG.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file vector_pattern.hpp  Umbrella header of the vector-pattern building blocks (Zhou et al. 2014):
 /// exemplars (vector_pattern/exemplar.hpp), slicing into pieces with portals (vector_pattern/pieces.hpp) and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file version.hpp  The single place the library version lives (CMake reads it from here).
 #define FABSYNTH_VERSION_MAJOR 0

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file voxel.hpp  Voxel grids (dense / sparse), neighbourhoods, connected components, mesh
 /// voxelization (surface shell and solid), multi-resolution pyramids and preview pictures.

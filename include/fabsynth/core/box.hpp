@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file box.hpp  Axis-aligned boxes in N dimensions (closed: lo <= p <= hi).
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file error.hpp  The fabsynth exception hierarchy.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file image.hpp  A minimal row-major multi-channel raster (no file I/O here; see io/image.hpp).
 #include <cstdint>
@@ -38,5 +39,22 @@ private:
 
 using image8 = image<std::uint8_t>;    ///< 8-bit samples (PNG/PGM)
 using image16 = image<std::uint16_t>;  ///< 16-bit samples (PNG/PGM with maxval > 255)
+
+/// Single-channel images of one size side by side, left to right, `gap` pixels of `background`
+/// between them; flip_y turns each upside down (slices stored with row 0 at the bottom become
+/// pictures with +y up). Throws invalid_input for an empty list or images of different sizes.
+template <class T>
+[[nodiscard]] image<T> side_by_side(const std::vector<image<T>>& images, int gap, T background, bool flip_y) {
+    if (images.empty()) throw invalid_input("side_by_side: no images");
+    const int w = images[0].width, h = images[0].height, n = static_cast<int>(images.size());
+    for (const auto& im : images)
+        if (im.width != w || im.height != h || im.channels != 1)
+            throw invalid_input("side_by_side: the images must be single-channel and of one size");
+    image<T> out(w * n + gap * (n - 1), h, 1, background);
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) out.at(k * (w + gap) + i, flip_y ? h - 1 - j : j) = images[static_cast<std::size_t>(k)].at(i, j);
+    return out;
+}
 
 }  // namespace fabsynth

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file parallel.hpp  Deterministic parallel loops on a persistent thread pool.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file progress.hpp  Progress reporting for long computations.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file rng.hpp  Counter-based hash random numbers.
 ///

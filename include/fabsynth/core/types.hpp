@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file types.hpp  Vocabulary types at API edges (glm vectors), units and small numeric helpers.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file union_find.hpp  Disjoint sets (union-find), plain and with integer potentials.
 ///

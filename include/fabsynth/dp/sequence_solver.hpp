@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file sequence_solver.hpp  Generic dynamic-programming solver for assembling a sequence of
 /// pieces (after Zhou et al. 2014, "Topology-constrained synthesis of vector patterns", §3.5-§3.7;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file assembly.hpp  Global stiffness assembly into Eigen::SparseMatrix (parallel, deterministic).
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file boundary.hpp  Boundary conditions and loads: fixed DOFs, nodal forces, gravity (consistent
 /// nodal loads from the element's body_force) and pressure on shells.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file element.hpp  The finite-element policy concept shared by hex8, wedge6 and shell3.
 ///

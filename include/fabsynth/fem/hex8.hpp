@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file hex8.hpp  Trilinear 8-node hexahedron (Abaqus C3D8, VTK_HEXAHEDRON), full 2x2x2 Gauss.
 ///

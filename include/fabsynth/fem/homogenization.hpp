@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file homogenization.hpp  Periodic homogenization of voxel microstructures and the isotropic
 /// fit of procedural-voronoi-foams.md eq. (1).

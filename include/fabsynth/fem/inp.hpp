@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file inp.hpp  Reader for the linear-static subset of Abaqus / CalculiX .inp decks.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file material.hpp  Isotropic linear elastic material (E, nu, density) with printing presets.
 ///

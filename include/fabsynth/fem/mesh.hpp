@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh.hpp  A finite-element model: nodes, mixed hex8 / wedge6 / shell3 elements, sections,
 /// and the DOF numbering derived from them.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file shell3.hpp  Flat 3-node facet shell (Abaqus S3, VTK_TRIANGLE): CST membrane + DKT bending
 /// + a small drilling stiffness, 6 DOFs per node.

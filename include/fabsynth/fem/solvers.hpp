@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file solvers.hpp  Sparse solver policies and the linear static solve K u = f with supports.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file stress.hpp  Stress recovery: element stresses at the centroid and Gauss points, principal
 /// stresses, von Mises, and the |s1| + |s2| + |s3| edge score of structurally-sound-patterns.md

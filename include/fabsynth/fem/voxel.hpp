@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file voxel.hpp  Linear elasticity on voxel grids: every solid voxel is a hex8 element with
 /// shared nodes, solved matrix-free by multigrid-preconditioned CG (scales to millions of DOFs).

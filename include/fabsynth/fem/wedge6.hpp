@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file wedge6.hpp  Linear 6-node prism (Abaqus C3D6), 3-point triangle x 2-point Gauss rule.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file beams.hpp  The explicit beam network of a foam inside a box: nodes (Voronoi vertices and
 /// the points where edges leave the box), edges, and a radius per edge (tau at its midpoint).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file elasticity.hpp  Elasticity control (paper §4.2): from a target Young's modulus to foam
 /// parameters (rho, tau), given a fitted model E = P(rho, tau).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file elasticity_samples.hpp  Homogenized samples of procedural Voronoi foams for the elasticity
 /// fit (procedural-voronoi-foams.md §4.1): one periodic foam realisation per (rho, tau, seed),

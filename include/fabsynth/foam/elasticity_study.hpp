@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file elasticity_study.hpp  The whole elasticity fit of procedural-voronoi-foams.md §4.1 over a
 /// (rho, tau) grid: homogenize every (pair, seed) sample (elasticity_samples.hpp), fit the degree-4

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file elasticity_text.hpp  Text forms of an elasticity fit (elasticity_study.hpp), built and
 /// parsed in memory; the caller reads and writes the files (examples/foam_fit):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file evaluator.hpp  Exact procedural Voronoi foam F(q): solid iff the distance from q to the
 /// EDGES of the 3D Voronoi diagram of the seeds (seeds.hpp) is <= tau(q).

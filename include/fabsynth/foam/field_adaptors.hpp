@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file field_adaptors.hpp  Fields (fields.hpp) built from user data: a grayscale image on a
 /// plane, the distance to a mesh surface, and a relative Young's modulus mapped to the seed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file fields.hpp  Scalar fields that drive a Voronoi foam: seed density rho(x) (seeds/mm^3) and
 /// beam radius tau(x) (mm).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file fit.hpp  Fitting the elasticity model of procedural-voronoi-foams.md §4 to homogenized
 /// samples: the degree-4 polynomial E = P(rho, tau) of §4.1 and the Gibson-Ashby power law

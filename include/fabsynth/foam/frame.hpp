@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file frame.hpp  A foam inside a closed mesh with a solid frame (shell) following its surface
 /// (paper §5.3), optionally cut open by planes that get no frame (paper Fig. 17).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file frame_mesh.hpp  A triangle mesh of a framed foam (frame.hpp) inside a box, by marching
 /// cubes (geometry/marching_cubes.hpp: marching tetrahedra, watertight) of framed_foam::implicit

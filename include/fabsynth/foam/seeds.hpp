@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file seeds.hpp  Graded jittered-grid Voronoi seeds: Algorithm 3 (SUBDIVIDECELL) of
 /// Martinez, Dumas & Lefebvre, "Procedural Voronoi Foams for Additive Manufacturing", SIGGRAPH 2016.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file slice_stack.hpp  Which slices to print for a part: the layers of a stack through its
 /// bounding box and the region every slice covers (used with framed_foam::slice or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file clip.hpp  Polygon booleans (union, intersection, difference, xor) and clipping by a
 /// vertical strip: a thin wrapper around Clipper 6 (Angus Johnson, libpolyclipping).

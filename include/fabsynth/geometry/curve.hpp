@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file curve.hpp  Planar curves parametrised by arc length, and the band map around them
 /// (Zhou et al. 2014, "Topology-constrained synthesis of vector patterns", §3.5 and §6.1: patterns

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file distance.hpp  Point-triangle distance, a bounding-volume hierarchy over a triangle mesh for
 /// closest-point queries, and signed distance by angle-weighted pseudonormals

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file extrude.hpp  Closed, outward-oriented triangle meshes from planar triangulations: straight
 /// extrusion, and the extrusion of a band pattern along a curve computed in the curve's parameter

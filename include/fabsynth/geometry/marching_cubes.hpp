@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file marching_cubes.hpp  Iso-surface extraction from a sampled scalar field or a voxel set,
 /// giving a closed, consistently oriented (watertight) triangle mesh.

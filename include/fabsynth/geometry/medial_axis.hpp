@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file medial_axis.hpp  The 2D medial axis of a polygon with holes as a skeleton: vertices with a
 /// position and the local half-width (radius of the maximal inscribed disc there = distance to the

@@ -1,15 +1,20 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh.hpp  Indexed triangle meshes and their basic measures.
 ///
 /// Usage:
 ///   fabsynth::triangle_mesh m = fabsynth::io::read_mesh("bunny.obj");
 ///   double v = fabsynth::signed_volume(m);   // > 0 for a closed, outward-oriented mesh
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "fabsynth/core/box.hpp"
+#include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 
 namespace fabsynth {
@@ -72,6 +77,24 @@ inline void validate(const triangle_mesh& m, const char* what = "mesh") {
 inline void mirror_y(triangle_mesh& m) noexcept {
     for (vec3& p : m.vertices) p.y = -p.y;
     for (auto& f : m.faces) std::swap(f[1], f[2]);
+}
+
+/// Turns a y-up mesh into a z-up one (the build direction of a printer): a rotation about x by
+/// +90 degrees, (x, y, z) -> (x, -z, y), which keeps the faces' orientation.
+inline void rotate_y_up_to_z_up(triangle_mesh& m) noexcept {
+    for (vec3& v : m.vertices) v = vec3(v.x, -v.z, v.y);
+}
+
+/// Moves the mesh's bounding-box corner to the origin and scales it uniformly so that its longest
+/// side is `size` mm. Throws invalid_input for an empty or flat-in-every-direction mesh or a size
+/// that is not finite and > 0.
+inline void fit_to_size(triangle_mesh& m, double size) {
+    if (!(std::isfinite(size) && size > 0)) throw invalid_input("mesh size must be finite and > 0 mm, got " + std::to_string(size));
+    const box3 bb = bounding_box(m);
+    const double longest = bb.empty() ? 0.0 : std::max({bb.size().x, bb.size().y, bb.size().z});
+    if (!(longest > 0)) throw invalid_input("cannot scale a mesh without extent to a size");
+    const double s = size / longest;
+    for (vec3& v : m.vertices) v = (v - bb.lo) * s;
 }
 
 }  // namespace fabsynth

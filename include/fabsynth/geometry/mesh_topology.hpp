@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh_topology.hpp  Combinatorial topology of triangle meshes: edge manifoldness, boundary
 /// edges and loops, orientation consistency, watertightness, connected components, Euler

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file polygon.hpp  Planar rings and polygons with holes: area, orientation, point location,
 /// simplicity, and grouping a set of nested rings into polygons with holes.

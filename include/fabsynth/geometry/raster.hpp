@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file raster.hpp  Scanline rasterization of planar regions bounded by directed edges (closed
 /// rings, polygons with holes, or the segments of a mesh cross-section), with the even-odd or the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file segment.hpp  Distance from a point to a line segment, in 2D or 3D (the one copy used by
 /// the foam evaluator, the band map and every other caller).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file triangulate.hpp  Triangulation of simple polygons with holes by ear clipping, holes
 /// joined to the outer ring by bridges (D. Eberly, "Triangulation by ear clipping", 2002, §3-4).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file colouring.hpp  Greedy graph colouring into independent sets (filigree-synthesis.md §4.5:
 /// the update order of Algorithm 1 moves one independent set of elements at a time).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file components.hpp  Connected components of a graph restricted to a vertex mask.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file csr_graph.hpp  Compact weighted graphs in compressed sparse row (CSR) form.
 ///

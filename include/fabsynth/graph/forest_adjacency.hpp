@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file forest_adjacency.hpp  Which trees of a shortest-path forest touch, and through which edge
 /// (structurally-sound-patterns.md Algorithm 5, steps 2 and 4).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file from_mesh.hpp  The edge graph of a triangle mesh.
 ///

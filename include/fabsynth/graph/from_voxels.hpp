@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file from_voxels.hpp  Graphs of sparse voxel sets (structurally-sound-patterns.md §5.1: the
 /// surface voxel graph G_surface, 26-neighbours, Euclidean edge weights).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file shortest_paths.hpp  Multi-source shortest-path forests (Dijkstra), their extension to a
 /// larger vertex set, paths to the roots, and geodesic distances with early exit.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file skeleton_graph.hpp  Editable skeleton graphs: vertices with a position and a width, joined
 /// by straight edges (filigree-synthesis.md §3.3 skeletons of elements, §4.3 the connectivity graph

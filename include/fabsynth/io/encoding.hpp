@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file encoding.hpp  Text or binary output for formats that have both (STL, PLY, PGM, VTK).
 

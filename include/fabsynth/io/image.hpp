@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file image.hpp  Raster files: PNG (via libspng) and PGM (P2 ASCII / P5 binary, own parser).
 ///

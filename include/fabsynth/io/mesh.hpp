@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh.hpp  Triangle mesh files by extension: .obj, .stl, .ply (case-insensitive).
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh_3mf.hpp  3MF triangle meshes (the format current slicers prefer), through lib3mf 1.x.
 ///

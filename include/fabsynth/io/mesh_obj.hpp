@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh_obj.hpp  Wavefront OBJ triangle meshes: read (strict) and write (exact).
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh_ply.hpp  PLY triangle meshes (ASCII, binary little- and big-endian): read and write.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh_stl.hpp  STL triangle meshes, ASCII and binary: read (welded) and write.
 ///

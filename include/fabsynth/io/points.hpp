@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file points.hpp  Point lists as text: one point per line, coordinates separated by commas
 /// and/or blanks ("x,y,z" or "x y z", mm); blank lines and lines starting with '#' are skipped.

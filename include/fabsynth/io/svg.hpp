@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file svg.hpp  Reading SVG drawings as flattened polylines, and writing them back.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file vtk.hpp  Legacy VTK files (version 3.0) that ParaView opens: meshes, unstructured grids
 /// and regular grids with per-point / per-cell fields; reading of STRUCTURED_POINTS.

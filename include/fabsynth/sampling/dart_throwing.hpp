@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file dart_throwing.hpp  Dart throwing with a caller-supplied candidate generator and
 /// acceptance predicate (filigree-synthesis.md §4.1: a candidate element is kept iff its overlap

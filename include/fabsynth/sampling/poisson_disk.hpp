@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file poisson_disk.hpp  Poisson-disk down-sampling of a finite point set in 2D or 3D, and the
 /// radius search that reaches a target sample count (structurally-sound-patterns.md §5.1, after

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file descriptor.hpp  Topology descriptors of sliced patterns (Zhou et al. 2014, §3.4).
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file band_map.hpp  Maps a pattern synthesized in a curve's band coordinates onto the curve
 /// (Zhou et al. 2014, §3.5, §6.1: synthesis runs in the (u, v) parameter domain of the curve; the

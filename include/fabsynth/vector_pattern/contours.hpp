@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file contours.hpp  Final contours of a synthesized band and their topology (Zhou et al. 2014, §4.3).
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file exemplar.hpp  Vector-pattern exemplars (Zhou et al. 2014, "Topology-constrained synthesis
 /// of vector patterns", §3.2): simple general polygons with holes, several components allowed.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file offsets.hpp  Global vertical positioning of a chosen piece sequence (Zhou et al. 2014, §4.1).
 ///

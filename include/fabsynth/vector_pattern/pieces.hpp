@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file pieces.hpp  Slicing an exemplar into pieces along x (Zhou et al. 2014, §3.3, §5.1, §5.2.1).
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file portal_cost.hpp  The transition cost between two vector-pattern pieces (Zhou et al. 2014,
 /// §3.6.1): how well the right side of piece i matches the left side of piece j.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file preview.hpp  The PNG preview of a vector pattern: a grey-level coverage image of its
 /// polygons (pattern dark on white), so a person can look at a result instead of reading it.

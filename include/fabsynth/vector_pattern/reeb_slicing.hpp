@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file reeb_slicing.hpp  Topology-driven slicing positions from a Reeb-graph sweep of the
 /// rasterized exemplar (Zhou et al. 2014, §5.2, §5.2.1, §5.2.2).

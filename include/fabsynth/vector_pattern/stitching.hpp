@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file stitching.hpp  Gap stitching of placed pieces by linear rotation-invariant (LRI) deformation
 /// of their boundaries (Zhou et al. 2014, §4.2, after Lipman, Sorkine, Levin & Cohen-Or 2005,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file synthesis.hpp  Topology-constrained synthesis of a vector pattern along a band, in band
 /// coordinates (Zhou et al. 2014, §3.5-§4), and rectangles by synthesizing twice (§6.2).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file components.hpp  Connected-component labelling of voxel sets.
 ///

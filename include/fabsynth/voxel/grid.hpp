@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file grid.hpp  Regular voxel grids, generic over value type and storage (dense / sparse hash).
 ///

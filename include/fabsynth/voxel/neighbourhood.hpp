@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file neighbourhood.hpp  6-, 18- and 26-neighbourhoods of a voxel as compile-time offset tables.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file preview.hpp  Pictures of voxel grids for a person to look at (the tools' PNG previews).
 ///

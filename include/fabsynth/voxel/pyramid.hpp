@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file pyramid.hpp  Multi-resolution voxel pyramids (2x downsampling per level) for
 /// coarse-to-fine algorithms.

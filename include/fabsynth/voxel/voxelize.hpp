@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file voxelize.hpp  Conservative surface voxelization and solid (inside) voxelization of meshes.
 ///

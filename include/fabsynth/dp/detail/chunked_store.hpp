@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file chunked_store.hpp  Internal: append-only array in fixed-size chunks.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file index_table.hpp  Internal: open-addressing hash set of entry indices (one per DP layer).
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file isoparametric.hpp  Shared kernel of the isoparametric solid elements (internal).
 #include <Eigen/Core>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file isoparametric_solid.hpp  The integration code shared by the isoparametric solid elements
 /// (hex8, wedge6): stiffness, consistent body loads, strains, stresses and volume, all evaluated

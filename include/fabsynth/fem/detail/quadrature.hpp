@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file quadrature.hpp  Gauss rules used by the elements (internal).
 #include <array>

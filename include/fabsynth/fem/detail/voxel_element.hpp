@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file voxel_element.hpp  Reference matrices of a regular voxel (internal to fem/voxel.hpp).
 ///

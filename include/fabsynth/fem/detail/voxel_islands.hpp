@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file voxel_islands.hpp  Face-connected components of solid voxels, with wrap-around detection
 /// for periodic grids (internal to fem/voxel.hpp and fem/homogenization.hpp).

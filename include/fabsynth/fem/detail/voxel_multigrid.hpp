@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file voxel_multigrid.hpp  Geometric multigrid-preconditioned CG for voxel elasticity (internal).
 ///

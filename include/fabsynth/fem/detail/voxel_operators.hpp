@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file voxel_operators.hpp  Node grids, the matrix-free voxel operator, 27-point block stencils
 /// and grid transfers (internal to fem/voxel.hpp).

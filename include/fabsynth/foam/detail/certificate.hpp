@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file certificate.hpp  (internal, behind evaluator.hpp) Which seeds the Voronoi edges inside a
 /// box depend on: the seed-neighbourhood certificate and the gather that applies it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file polytope.hpp  (internal) Convex polytope clipped by half-spaces, tracking which plane
 /// made every face and every edge, so Voronoi edges can be read off a clipped cell.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file slicer.hpp  (internal, behind evaluator.hpp) The tiled slicer of voronoi_foam::slice.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file voronoi_edges.hpp  (internal, behind evaluator.hpp) The Voronoi edge pieces inside a box,
 /// from the seeds gathered by certificate.hpp.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file workspace.hpp  (internal, behind evaluator.hpp) The data the evaluator's phases share:
 /// the public edge_segment, the per-slice seed cache and the per-thread scratch space.

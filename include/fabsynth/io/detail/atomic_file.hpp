@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file atomic_file.hpp  Whole-file output that never leaves a half-written file behind.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file binary.hpp  Endian-explicit reading and writing of fixed-size numbers.
 #include <bit>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file lib3mf_api.hpp  The part of lib3mf 1.x's plain C interface (Model/COM/NMR_DLLInterfaces.h)
 /// that io/mesh_3mf.hpp calls, declared here instead of including lib3mf's headers: those

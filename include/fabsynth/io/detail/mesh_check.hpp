@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file mesh_check.hpp  Shared checks for mesh writers.
 #include <cmath>

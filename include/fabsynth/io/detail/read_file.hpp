@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file read_file.hpp  Reads a whole file into memory (the readers then parse from memory).
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file svg_path.hpp  Internal: SVG path data and points lists, flattened to polylines in the
 /// document's root user space. Not part of the public API.

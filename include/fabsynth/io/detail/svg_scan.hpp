@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file svg_scan.hpp  Internal: SVG number grammar, transform lists and 2D affine maps.
 /// Not part of the public API.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file svg_xml.hpp  Internal: a small non-validating XML tokenizer for the SVG reader, plus the
 /// error-location helper shared by the SVG internals. Not part of the public API.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file text.hpp  Tokenising text with line numbers, strict number parsing and exact formatting.
 ///

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 /// @file weld.hpp  Merges vertices with exactly equal positions (for STL's triangle soups).
 #include <array>
