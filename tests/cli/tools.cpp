@@ -210,3 +210,78 @@ TEST_CASE("curve_patterns follows the tool convention", "[cli][curve_patterns]")
     CHECK(j.at("outputs").size() == 3);
     for (const auto& p : j.at("outputs")) CHECK(fs::exists(p.get<std::string>()));
 }
+
+namespace {
+// Pixel size (mm) from a PNG's pHYs chunk, read from the bytes (no PNG library): pixels per metre
+// in x, as the chunk stores it; 0 if the file has no pHYs chunk in metres.
+double png_pixel_mm(const std::string& png) {
+    const std::size_t at = png.find("pHYs");
+    if (at == std::string::npos || at + 13 > png.size()) return 0;
+    auto u8 = [&](std::size_t i) { return static_cast<unsigned>(static_cast<unsigned char>(png[i])); };
+    const unsigned long ppm = (u8(at + 4) << 24) | (u8(at + 5) << 16) | (u8(at + 6) << 8) | u8(at + 7);
+    return u8(at + 12) == 1 && ppm > 0 ? 1000.0 / static_cast<double>(ppm) : 0;
+}
+}  // namespace
+
+TEST_CASE("foam_slicer follows the tool convention", "[cli][foam_slicer]") {
+    const std::string mesh = (data_dir / "meshes/bunny_lowres.obj").string();
+    const std::string dir = (work_dir / "fs_out").string();
+    fs::remove_all(dir);
+    const std::string bad_points = write_file("bad_points.csv", "1,2,3\n1.2.3,4\n");
+    const std::string points = write_file("points.csv", "1,2,3\n0,0,0\n");
+    const std::string eval_out = (work_dir / "eval_out.txt").string();
+    fs::remove(eval_out);
+    for (const cli_case& c : std::vector<cli_case>{
+             {"malformed point", {"eval", "--points", bad_points, "--out", eval_out}, 5, "bad_points.csv:2"},
+             {"empty seed box", {"seeds", "--box", "0", "0", "0", "0", "1", "1", "--out", eval_out}, 2, "--box"},
+             {"negative slice count", {"slice", mesh, "--out-dir", dir, "--size", "20", "--slices", "-3"}, 2, "--slices"},
+             {"NaN size", {"slice", mesh, "--out-dir", dir, "--size", "nan"}, 2, "--size"},
+             {"fractional field axis", {"slice", mesh, "--out-dir", dir, "--size", "20", "--field-axis", "1.7", "0.1", "0.2", "0", "1"}, 2, "AXIS"},
+             {"inverted stl box", {"slice", mesh, "--out-dir", dir, "--size", "20", "--stl-box", "5", "5", "5", "1", "1", "1"}, 2, "--stl-box"},
+         })
+        check_case("foam_slicer", c);
+    CHECK_FALSE(fs::exists(dir));  // every option is checked before the first file is written
+    CHECK_FALSE(fs::exists(eval_out));
+    check_common("foam_slicer", {"slice", mesh, "--out-dir", dir, "--size", "nan"}, 2);
+
+    const result ev = run("foam_slicer", {"eval", "--points", points, "--out", eval_out, "--json"});
+    REQUIRE(ev.code == 0);
+    CHECK(json::parse(ev.out).at("points") == 2);
+    CHECK(slurp(eval_out).size() == 4);
+
+    const result ok = run("foam_slicer", {"slice", mesh, "--y-up", "--size", "20", "--out-dir", dir, "--pixel", "0.1", "--slices", "3",
+                                          "--radius", "0.25", "--density", "0.3", "--json"});
+    REQUIRE(ok.code == 0);
+    const json j = json::parse(ok.out);
+    CHECK(j.at("slices") == 3);
+    const json manifest = json::parse(slurp(j.at("manifest").get<std::string>()));
+    CHECK(manifest.at("pixel_mm") == 0.1);
+    REQUIRE(manifest.at("count") == 3);
+    for (const auto& s : manifest.at("slices")) {
+        const std::string png = slurp(fs::path(dir) / s.at("file").get<std::string>());
+        CHECK(png_pixel_mm(png) == Approx(0.1).epsilon(1e-5));
+    }
+}
+
+TEST_CASE("foam_fit follows the tool convention", "[cli][foam_fit]") {
+    const std::string csv = (work_dir / "fit.csv").string(), header = (work_dir / "fit.hpp").string();
+    fs::remove(csv);
+    fs::remove(header);
+    for (const cli_case& c : std::vector<cli_case>{
+             {"no densities", {"--rho-count", "0", "--csv", csv}, 2, "--rho-count"},
+             {"bad pair", {"--pairs", "0.1-0.2", "--csv", csv}, 2, "RHO:TAU"},
+             {"header from too few samples", {"--pairs", "0.05:0.25", "--seeds", "1", "--header", header, "--csv", csv}, 2, "--header"},
+         })
+        check_case("foam_fit", c);
+    CHECK_FALSE(fs::exists(csv));
+    CHECK_FALSE(fs::exists(header));
+    check_common("foam_fit", {"--rho-count", "0"}, 2);
+
+    const result ok = run("foam_fit", {"--pairs", "1:0.25", "--seeds", "1", "--elements", "8", "--supersample", "1", "--csv", csv, "--json"});
+    REQUIRE(ok.code == 0);
+    const json j = json::parse(ok.out);
+    CHECK(j.at("samples") == 1);
+    CHECK(j.at("polynomial").empty());
+    CHECK(j.at("max_deviation").is_null());
+    CHECK(fs::exists(csv));
+}
