@@ -114,6 +114,7 @@ public:
     explicit common(CLI::App& app) : app_(app) {
         app.set_version_flag("--version", std::string("fabsynth ") + FABSYNTH_VERSION_STRING);
         app.option_defaults()->always_capture_default();
+        app.fallthrough();  // inherited by subcommands: `tool sub ... --json` reaches these options
         app.add_flag("--quiet,-q", quiet_, "no progress on stderr");
         app.add_flag("--json", json_, "print a JSON summary of the run on stdout (human-readable lines go to stderr)");
     }

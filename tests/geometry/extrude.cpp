@@ -187,9 +187,9 @@ TEST_CASE("extrude_along_curve: a bundled exemplar along an open arc", "[geometr
     CHECK(signed_volume(m) / 0.8 == Approx(expected).epsilon(2e-3));
 }
 
-// GCC 12.2's SLP vectorizer rounds only z in `for (a) v[a] = double(float(v[a]))` over glm
-// vectors; CMakeLists.txt no longer imposes -fno-tree-slp-vectorize, so the library's float
-// rounding is checked per component here, with an oracle written component by component.
+// Reproducer of the GCC 12 SLP miscompile (core/compiler.hpp): without FABSYNTH_NO_SLP_VECTORIZE
+// on weld_to_float, GCC 12.2 -O2 rounds only z to float. Checked per component against an oracle
+// written component by component.
 TEST_CASE("weld_to_float rounds every component to single precision", "[extrude][float]") {
     triangle_mesh m;
     m.vertices = {{0.1, 0.2, 0.3}, {1.1, 2.2, 3.3}, {-7.7, 1e-3, 12345.678}, {0.1 + 1e-12, 0.2, 0.3}};

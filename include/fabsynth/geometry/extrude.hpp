@@ -41,6 +41,7 @@
 #include <utility>
 #include <vector>
 
+#include "fabsynth/core/compiler.hpp"
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/curve.hpp"
@@ -164,7 +165,7 @@ inline void refine_x_extent(planar_triangulation& t, double max_dx) {
 /// equal and drops faces that become degenerate (repeated vertex). Sliver triangles next to a cut
 /// line can have vertices a few 1e-7 mm apart; without this the written STL would have collapsed
 /// faces. Collapsing a zero-length edge removes its two faces and keeps the mesh closed.
-inline void weld_to_float(triangle_mesh& m) {
+FABSYNTH_NO_SLP_VECTORIZE inline void weld_to_float(triangle_mesh& m) {  // compiler.hpp: GCC 12 miscompiles it otherwise
     std::map<std::array<float, 3>, std::uint32_t> index;
     std::vector<std::uint32_t> remap(m.vertices.size());
     std::vector<vec3> verts;
