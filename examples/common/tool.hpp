@@ -27,6 +27,8 @@
 #include <new>
 #include <string>
 #include <string_view>
+#include <system_error>
+#include <vector>
 
 #include <fabsynth/core/error.hpp>
 #include <fabsynth/version.hpp>
@@ -70,6 +72,26 @@ inline failure current_failure(std::string_view tool) {
         return {exit_internal, prefix + "internal error: " + e.what()};
     } catch (...) {
         return {exit_internal, prefix + "internal error: unknown exception"};
+    }
+}
+
+/// Refuses, before any work, an output path that is one of the input files (the same file by
+/// std::filesystem::equivalent, so links and other spellings count) or that two outputs share:
+/// invalid_input (exit 2) naming both. Empty paths are ignored. Outputs that do not exist yet
+/// cannot be an existing input; two of them are compared by their normalised absolute paths.
+inline void check_outputs(const std::vector<std::filesystem::path>& inputs, const std::vector<std::filesystem::path>& outputs) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (std::size_t k = 0; k < outputs.size(); ++k) {
+        const fs::path& out = outputs[k];
+        if (out.empty()) continue;
+        for (const fs::path& in : inputs)
+            if (!in.empty() && fs::exists(out, ec) && fs::exists(in, ec) && fs::equivalent(out, in, ec))
+                throw invalid_input("output '" + out.string() + "' is the input '" + in.string() + "': refusing to overwrite an input");
+        const fs::path a = fs::weakly_canonical(fs::absolute(out), ec);
+        for (std::size_t m = 0; m < k; ++m)
+            if (!outputs[m].empty() && fs::weakly_canonical(fs::absolute(outputs[m]), ec) == a)
+                throw invalid_input("outputs '" + outputs[m].string() + "' and '" + out.string() + "' are the same file");
     }
 }
 

@@ -84,6 +84,12 @@ int main(int argc, char** argv) {
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
+        const fs::path svg_out(out_path);
+        fs::path stl_out = svg_out, png_out = svg_out, threemf_out = svg_out;
+        stl_out.replace_extension(".stl");
+        png_out.replace_extension(".png");
+        threemf_out.replace_extension(".3mf");
+        tool::check_outputs({exemplar_path, curve_path}, {svg_out, stl_out, png_out, threemf_out});
         const int shapes_given = !curve_path.empty() + line_length.has_value() + circle_radius.has_value() + !rect.empty();
         if (shapes_given != 1) throw invalid_input("give exactly one of --curve, --line, --circle, --rect");
         require_positive(height, "--height");
@@ -173,17 +179,12 @@ int main(int argc, char** argv) {
         doc.shapes.push_back(io::shape_from_polygons(drawn));
         const image8 png = vector_pattern::preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
 
-        const fs::path svg_out(out_path);
-        fs::path stl_out = svg_out, png_out = svg_out;
-        stl_out.replace_extension(".stl");
-        png_out.replace_extension(".png");
         progress(0.9, "write");
         if (!svg_out.parent_path().empty()) fs::create_directories(svg_out.parent_path());
         io::write_svg(svg_out, doc);
         io::write_stl(stl_out, mesh);
 #if defined(FABSYNTH_HAS_LIB3MF)
-        fs::path threemf_out = svg_out;
-        io::write_3mf(threemf_out.replace_extension(".3mf"), mesh, {.name = svg_out.stem().string()});
+        io::write_3mf(threemf_out, mesh, {.name = svg_out.stem().string()});
 #endif
         io::write_png(png_out, png);
 

@@ -45,6 +45,8 @@ int main(int argc, char** argv) {
 
     return fabsynth::tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
+        const std::filesystem::path out_files(out_dir);
+        fabsynth::tool::check_outputs({deck_path}, {out_files / "displacements.csv", out_files / "stresses.csv", out_files / "result.vtk"});
         progress(0.0, "read deck");
         const auto t0 = std::chrono::steady_clock::now();
         const fem::inp_deck d = fem::parse_inp(fabsynth::io::detail::read_file(deck_path), deck_path);

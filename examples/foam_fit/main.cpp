@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
     app.add_option("--plot", plot_path, "PNG plot to write");
     app.add_option("--cache", cache_path, "sample cache (reused and extended; lets a run resume)");
     return tool::run(app, common, argc, argv, [&] {
+        tool::check_outputs({cache_path}, {csv_path, header_path, plot_path});
         c.fit = objective == "absolute" ? foam::fit_error::absolute : foam::fit_error::relative;
         set_num_threads(threads);
         if (!pairs.empty()) {

@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
         if (seeds_cmd->parsed() || eval_cmd->parsed()) {
+            tool::check_outputs({points}, {out});
             const density_field rho{field_from(fa)};
             const voronoi_foam f(rho, constant_field{fa.radius}, {.cell = fa.cell, .seed = fa.seed});
             if (seeds_cmd->parsed()) {
@@ -182,6 +183,9 @@ int main(int argc, char** argv) {
         std::optional<box3> stl_region, beams_region;
         if (stl_box.size() == 6) stl_region = box_option(stl_box, "--stl-box"), require_positive(stl_voxel, "--stl-voxel");
         if (beams_box.size() == 6) beams_region = box_option(beams_box, "--beams-box");
+        const fs::path dir(out_dir);
+        tool::check_outputs({mesh_path, field_image},
+                            {dir / "preview.png", dir / "slices.json", dir / "foam.stl", dir / "foam.3mf", dir / "beams.vtk"});
         progress(0.0, "read mesh");
         triangle_mesh mesh = io::read_mesh(mesh_path);
         validate(mesh, mesh_path.c_str());
@@ -231,6 +235,13 @@ int main(int argc, char** argv) {
         const slice_stack stack = plan_slice_stack(bb, pixel, layer, nslices);
         const box2& region = stack.region;
         const std::vector<int>& which = stack.selected;
+        std::vector<fs::path> slice_files;
+        for (int k : which) {
+            char name[64];
+            std::snprintf(name, sizeof name, "slice_%05d.png", k);
+            slice_files.push_back(dir / name);
+        }
+        tool::check_outputs({mesh_path, field_image}, slice_files);
         const slice_options so{.supersample = supersample};
         std::uint64_t pixels = 0, solid = 0;
         double total_ms = 0;

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
     app.add_option("--preview", preview, "write a PNG of the three mid-plane slices of the densities");
 
     return fabsynth::tool::run(app, common, argc, argv, [&] {
+        fabsynth::tool::check_outputs({input}, {preview});
         fabsynth::set_num_threads(threads);
         const auto t0 = std::chrono::steady_clock::now();
         const fabsynth::io::structured_points sp = fabsynth::io::read_vtk_structured_points(input);

@@ -67,6 +67,8 @@ int main(int argc, char** argv) {
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
+        const fs::path out(out_dir);
+        tool::check_outputs({mesh_path}, {out / "shell.vtk", out / "solid.stl", out / "solid.3mf", out / "slices.png"});
         const auto t0 = std::chrono::steady_clock::now();
         progress(0.0, "read mesh");
         const triangle_mesh mesh = io::read_mesh(mesh_path);

@@ -285,3 +285,34 @@ TEST_CASE("foam_fit follows the tool convention", "[cli][foam_fit]") {
     CHECK(j.at("max_deviation").is_null());
     CHECK(fs::exists(csv));
 }
+
+TEST_CASE("no tool overwrites one of its inputs or writes two outputs to one file", "[cli][clobber]") {
+    const std::string exemplar = write_file("own_exemplar.svg", slurp(data_dir / "vector/greek_key.svg"));
+    const std::string points = write_file("own_points.csv", "1,2,3\n");
+    const std::string cache = write_file("own_cache.txt", "");
+    std::string block = "# vtk DataFile Version 3.0\nblock\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 2 2 2\nORIGIN 0 0 0\n"
+                        "SPACING 1 1 1\nPOINT_DATA 8\nSCALARS density double 1\nLOOKUP_TABLE default\n1\n1\n1\n1\n1\n1\n1\n1\n";
+    const std::string grid = write_file("own_grid.vtk", block);
+    const std::string mesh_dir = (work_dir / "own_mesh_dir").string();
+    fs::create_directories(mesh_dir);
+    const std::string mesh = (fs::path(mesh_dir) / "solid.stl").string();
+    fs::copy_file(data_dir / "meshes/cube_ascii.stl", mesh, fs::copy_options::overwrite_existing);
+    struct row {
+        std::string tool;
+        std::vector<std::string> args;
+        std::string input;
+    };
+    for (const row& r : std::vector<row>{
+             {"curve_patterns", {"--exemplar", exemplar, "--line", "100", "--height", "10", "-o", exemplar}, exemplar},
+             {"curve_patterns", {"--exemplar", exemplar, "--line", "100", "--height", "10", "-o", (work_dir / "x.stl").string()}, exemplar},
+             {"foam_slicer", {"eval", "--points", points, "--out", points}, points},
+             {"homogenize", {grid, "--preview", grid}, grid},
+             {"foam_fit", {"--pairs", "1:0.25", "--seeds", "1", "--cache", cache, "--csv", cache}, cache},
+             {"voxelize", {mesh, "-o", mesh_dir, "-r", "8"}, mesh},
+         }) {
+        const std::string before = slurp(r.input);
+        check_case(r.tool, {"output names an input or another output", r.args, 2, ""});
+        CHECK(slurp(r.input) == before);
+    }
+    CHECK_FALSE(fs::exists(work_dir / "x.stl"));
+}
