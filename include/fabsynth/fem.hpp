@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file fem.hpp  Linear elastic finite elements: hex8 / wedge6 / shell3 elements, material,
-/// parallel deterministic assembly, supports and loads, sparse solver policies, stress recovery,
+/// parallel deterministic assembly, supports and loads, sparse solver policies, the reusing solve context with its automatic method (SA-AMG, CHOLMOD, LDL^T), stress recovery,
 /// and the Abaqus/CalculiX .inp subset reader. Units: mm, N, MPa, t/mm^3.
 ///
 /// Usage:
@@ -17,6 +17,9 @@
 #include "fabsynth/fem/mesh.hpp"
 #include "fabsynth/fem/shell3.hpp"
 #include "fabsynth/fem/solvers.hpp"
+#include "fabsynth/fem/solve_context.hpp"
+#include "fabsynth/fem/inp_writer.hpp"
+#include "fabsynth/fem/amg.hpp"
 #include "fabsynth/fem/stress.hpp"
 #include "fabsynth/fem/wedge6.hpp"
 #include "fabsynth/fem/voxel.hpp"

@@ -7,7 +7,7 @@
 
 #include "fabsynth/core/rng.hpp"
 #include "fabsynth/fem/inp.hpp"
-#include "fabsynth/fem/solvers.hpp"
+#include "fabsynth/fem/solve_context.hpp"
 #include "fabsynth/fem/stress.hpp"
 
 using namespace fabsynth;

@@ -7,7 +7,7 @@
 #include "fabsynth/fem/assembly.hpp"
 #include "fabsynth/fem/boundary.hpp"
 #include "fabsynth/fem/mesh.hpp"
-#include "fabsynth/fem/solvers.hpp"
+#include "fabsynth/fem/solve_context.hpp"
 #include "fabsynth/fem/stress.hpp"
 
 using namespace fabsynth;

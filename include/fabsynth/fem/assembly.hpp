@@ -18,6 +18,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "fabsynth/core/huge_pages.hpp"
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/fem/mesh.hpp"
 
@@ -77,6 +78,8 @@ inline Eigen::SparseMatrix<double> pattern_matrix(const dof_map& dofs, const nod
         nnz += col_len * dofs.count[i];
     }
     K.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+    advise_huge_pages(K.innerIndexPtr(), nnz * sizeof(Index));  // first touched just below
+    advise_huge_pages(K.valuePtr(), nnz * sizeof(double));
     Index* outer = K.outerIndexPtr();
     Index* inner = K.innerIndexPtr();
     std::size_t pos = 0;

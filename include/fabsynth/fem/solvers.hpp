@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file solvers.hpp  Sparse solver policies and the linear static solve K u = f with supports.
+/// @file solvers.hpp  Sparse solver policies, solver methods and options, and the constrained
+/// linear static solve K u = f with a compile-time solver policy.
 ///
-/// A solver policy is anything Eigen-shaped (concept sparse_solver): default constructible, with
-/// analyzePattern(A), factorize(A), compute(A), info() and solve(b). Ready-made policies:
-///   ldlt_solver        Eigen::SimplicialLDLT (default; exact, checks pivots for mechanisms)
+/// Most callers want solve_context.hpp (runtime method choice, reuse, several load cases) and its
+/// solve_linear_static(mesh, loads, options). This header keeps the compile-time route for any
+/// Eigen-shaped solver (concept sparse_solver: default constructible, analyzePattern(A),
+/// factorize(A), compute(A), info(), solve(b)). Ready-made policies:
+///   ldlt_solver        Eigen::SimplicialLDLT (exact, checks pivots for mechanisms)
 ///   cg_ichol_solver    Eigen::ConjugateGradient + IncompleteCholesky (low memory, iterative)
 ///   cg_jacobi_solver   Eigen::ConjugateGradient + diagonal (Jacobi) preconditioner
 ///   cholmod_solver     Eigen::CholmodSupernodalLLT (only when FABSYNTH_HAS_CHOLMOD is defined,
@@ -16,8 +19,7 @@
 /// check failure all throw solver_error naming the cause.
 ///
 /// Usage:
-///   auto r = fabsynth::fem::solve_linear_static(mesh, loads);                         // LDLT
-///   auto r2 = fabsynth::fem::solve_linear_static<fabsynth::fem::cg_ichol_solver>(mesh, loads);
+///   auto r = fabsynth::fem::solve_linear_static<fabsynth::fem::cg_ichol_solver>(mesh, loads);
 ///   vec3 u = r.displacement(node);
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -34,11 +36,13 @@
 #include <cstdint>
 #include <numeric>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/union_find.hpp"
+#include "fabsynth/fem/amg.hpp"
 #include "fabsynth/fem/assembly.hpp"
 #include "fabsynth/fem/boundary.hpp"
 #include "fabsynth/fem/mesh.hpp"
@@ -68,9 +72,45 @@ using cholmod_solver = Eigen::CholmodSupernodalLLT<sparse_matrix>;
 
 static_assert(sparse_solver<ldlt_solver> && sparse_solver<cg_ichol_solver> && sparse_solver<cg_jacobi_solver>);
 
+/// Linear solver methods of solve_context (solve_context.hpp documents the automatic choice).
+enum class solver_method { automatic, ldlt, cholmod, cg, cg_jacobi, amg };
+
+/// Command-line name of a method: auto, ldlt, cholmod, cg, cg-jacobi, amg.
+[[nodiscard]] inline const char* method_name(solver_method m) {
+    switch (m) {
+        case solver_method::ldlt: return "ldlt";
+        case solver_method::cholmod: return "cholmod";
+        case solver_method::cg: return "cg";
+        case solver_method::cg_jacobi: return "cg-jacobi";
+        case solver_method::amg: return "amg";
+        default: return "auto";
+    }
+}
+/// Method of a command-line name; throws invalid_input listing the names.
+[[nodiscard]] inline solver_method parse_solver_method(std::string_view name) {
+    for (solver_method m : {solver_method::automatic, solver_method::ldlt, solver_method::cholmod, solver_method::cg, solver_method::cg_jacobi,
+                            solver_method::amg})
+        if (name == method_name(m)) return m;
+    throw invalid_input("unknown solver '" + std::string(name) + "' (auto, ldlt, cholmod, cg, cg-jacobi, amg)");
+}
+/// Whether this build has the method (cholmod needs fabsynth::cholmod).
+[[nodiscard]] inline bool method_available(solver_method m) {
+#if defined(FABSYNTH_HAS_CHOLMOD)
+    (void)m;
+    return true;
+#else
+    return m != solver_method::cholmod;
+#endif
+}
+
 struct solve_options {
+    solver_method method = solver_method::automatic;  ///< solve_context / solve_linear_static without a policy
+    std::size_t direct_limit = 20000;  ///< automatic: direct LDL^T up to this many free DOFs
+    bool reuse_preconditioner = true;  ///< after stiffness-scale changes, first try CG on the previous factorization
+    long reuse_iterations = 40;        ///< ... and refactorize if it needs more iterations (AMG: 2x its last count + 10)
+    amg_options amg;                   ///< method amg
     double tolerance = 1e-12;          ///< relative residual target of iterative solvers
-    long max_iterations = 0;           ///< iterative solvers; 0 = 4 * number of unknowns
+    long max_iterations = 0;           ///< iterative solvers; 0 = 4 * number of unknowns (AMG: 2000)
     double pivot_tolerance = 1e-13;    ///< LDLT pivots below this * max pivot mean a mechanism
     double residual_tolerance = 1e-6;  ///< accepted |K u - f| / |f| of the final check
     bool check_supports = true;        ///< check every connected part has >= 6 fixed DOFs
@@ -83,6 +123,7 @@ struct static_result {
     Eigen::VectorXd reactions;  ///< K u - f [N, N mm]: support reactions at fixed DOFs, ~0 elsewhere
     double relative_residual = 0;
     long iterations = 0;        ///< iterative solvers only
+    std::string solver;         ///< method that produced u (solve_context: auto resolved to its choice)
 
     /// Translation [mm] of node i (0 for nodes without DOFs).
     [[nodiscard]] vec3 displacement(std::size_t i) const {
@@ -316,8 +357,9 @@ template <sparse_solver Solver>
     return r;
 }
 
-/// Same with a default-constructed Solver (default: SimplicialLDLT).
-template <sparse_solver Solver = ldlt_solver>
+/// Same with a default-constructed Solver. Without a Solver, solve_context.hpp's overload chooses
+/// the method (automatic by default).
+template <sparse_solver Solver>
 [[nodiscard]] static_result solve_linear_static(const mesh& m, const load_case& lc, const solve_options& opt = {}) {
     Solver solver;
     return solve_linear_static(m, lc, opt, solver);

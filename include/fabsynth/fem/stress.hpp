@@ -85,4 +85,43 @@ struct stress_options {
     return out;
 }
 
+/// Natural coordinates of node a of element type E (shells: on the mid-surface, zeta = 0).
+template <finite_element E>
+[[nodiscard]] vec3 node_natural_coordinates(int a) {
+    if constexpr (std::is_same_v<E, hex8>) {
+        return vec3(hex8::corners[a][0], hex8::corners[a][1], hex8::corners[a][2]);
+    } else {
+        constexpr double r[3] = {0, 1, 0}, s[3] = {0, 0, 1};
+        if constexpr (std::is_same_v<E, wedge6>) return vec3(r[a % 3], s[a % 3], a < 3 ? -1.0 : 1.0);
+        else return vec3(r[a], s[a], 0.0);
+    }
+}
+
+/// von Mises stress [MPa] at every node: the mean over its elements of the element's stress
+/// evaluated at that node (a shell at its more stressed face, zeta = +-1, where bending peaks).
+/// This is the nodal stress whose large values filigree-synthesis.md sec. 5 calls weak nodes.
+/// Nodes of no element get 0. Parallel over elements, summed in element order (deterministic).
+[[nodiscard]] inline std::vector<double> nodal_von_mises(const mesh& m, const static_result& r, const stress_options& opt = {}) {
+    std::vector<std::array<double, 8>> per_element(m.elements.size());
+    parallel_for(0, m.elements.size(), [&](std::size_t e) {
+        visit_kind(m.elements[e].kind, [&]<class E>(std::type_identity<E>) {
+            for (int a = 0; a < E::num_nodes; ++a) {
+                const vec3 xi = node_natural_coordinates<E>(a);
+                if constexpr (std::is_same_v<E, shell3>)
+                    per_element[e][a] = std::max(von_mises(element_stress(m, r, e, vec3(xi.x, xi.y, 1.0), opt)),
+                                                 von_mises(element_stress(m, r, e, vec3(xi.x, xi.y, -1.0), opt)));
+                else
+                    per_element[e][a] = von_mises(element_stress(m, r, e, xi, opt));
+            }
+        });
+    }, {.grain = 64});
+    std::vector<double> sum(m.nodes.size(), 0.0);
+    std::vector<int> count(m.nodes.size(), 0);
+    for (std::size_t e = 0; e < m.elements.size(); ++e)
+        for (int a = 0; a < num_nodes(m.elements[e].kind); ++a) sum[m.elements[e].nodes[a]] += per_element[e][a], ++count[m.elements[e].nodes[a]];
+    for (std::size_t i = 0; i < sum.size(); ++i)
+        if (count[i]) sum[i] /= count[i];
+    return sum;
+}
+
 }  // namespace fabsynth::fem

@@ -300,10 +300,10 @@ public:
         auto apply = [&](const std::vector<double>& v, std::vector<double>& y) { op_.apply(v, y); };
         pcg_report rep;
         if (mg_) {
-            rep = pcg(apply, [&](const std::vector<double>& r, std::vector<double>& z) { mg_->precondition(r, z); }, b, x, opt_.tolerance,
+            rep = pcg("voxel FEM", apply, [&](const std::vector<double>& r, std::vector<double>& z) { mg_->precondition(r, z); }, b, x, opt_.tolerance,
                       opt_.max_iterations, on_it);
         } else {
-            rep = pcg(apply,
+            rep = pcg("voxel FEM", apply,
                       [&](const std::vector<double>& r, std::vector<double>& z) {
                           parallel_for(0, r.size(), [&](std::size_t i) { z[i] = inv_diag_[i] * r[i]; }, {.grain = 8192});
                       },

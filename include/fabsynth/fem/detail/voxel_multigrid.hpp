@@ -219,34 +219,15 @@ private:
         return 1.2 * lambda;
     }
 
-    /// Chebyshev smoothing of A x = b on level l; x is 0 on entry when `zero_start`.
+    /// Chebyshev smoothing of A x = b on level l (detail/krylov.hpp); x is 0 on entry when `zero_start`.
     void smooth(std::size_t l, bool zero_start) {
         level& L = levels_[l];
-        const double hi = L.lmax, lo = hi / settings_.smoothing_range;
-        const double theta = 0.5 * (hi + lo), delta = 0.5 * (hi - lo), sigma = theta / delta;
-        double rho = 1.0 / sigma;
-        const std::size_t n = L.x.size();
-        constexpr parallel_options vec{.grain = 16384};
-        if (zero_start) {
-            L.r = L.b;
-        } else {
-            apply(l, L.x, L.r);
-            parallel_for(0, n, [&](std::size_t i) { L.r[i] = L.state[i] == dof_free ? L.b[i] - L.r[i] : 0.0; }, vec);
-        }
-        parallel_for(0, n, [&](std::size_t i) { L.d[i] = L.inv_diag[i] * L.r[i] / theta; }, vec);
-        std::vector<double>& Ad = scratch(l);
-        for (int k = 0; k < settings_.smoothing_degree; ++k) {
-            parallel_for(0, n, [&](std::size_t i) { L.x[i] += L.d[i]; }, vec);
-            if (k + 1 == settings_.smoothing_degree) break;
-            apply(l, L.d, Ad);
-            const double rho_new = 1.0 / (2.0 * sigma - rho);
-            parallel_for(0, n, [&](std::size_t i) {
-                L.r[i] = L.state[i] == dof_free ? L.r[i] - Ad[i] : 0.0;
-                L.d[i] = rho_new * rho * L.d[i] + 2.0 * rho_new / delta * L.inv_diag[i] * L.r[i];
-            }, vec);
-            rho = rho_new;
-        }
+        if (work_.size() < levels_.size()) work_.resize(levels_.size());
+        chebyshev_smooth([&](const std::vector<double>& v, std::vector<double>& y) { apply(l, v, y); }, L.inv_diag, L.lmax,
+                         settings_.smoothing_range, settings_.smoothing_degree, L.b, L.x, zero_start, work_[l],
+                         [&](std::size_t i) { return L.state[i] == dof_free; });
     }
+
     std::vector<double>& scratch(std::size_t l) {
         if (scratch_.size() < levels_.size()) scratch_.resize(levels_.size());
         auto& s = scratch_[l];
@@ -277,62 +258,8 @@ private:
     multigrid_settings settings_;
     std::vector<level> levels_;
     std::vector<std::vector<double>> scratch_;
+    std::vector<chebyshev_work> work_;
     stencil_direct_solver direct_;
 };
-
-/// Result of a preconditioned CG run.
-struct pcg_report {
-    int iterations = 0;
-    double relative_residual = 0;
-    bool converged = false;
-};
-
-/// Preconditioned conjugate gradients on A x = b (x holds the start and the result). Stops when
-/// ||r|| <= tol ||b||. `apply(x, y)` computes y = A x; `prec(r, z)` computes z = M^-1 r.
-/// `on_iteration(it, rel)` is called after each iteration (progress reporting).
-template <class Apply, class Prec, class OnIt>
-pcg_report pcg(Apply&& apply, Prec&& prec, const std::vector<double>& b, std::vector<double>& x, double tol, int max_it, OnIt&& on_iteration) {
-    const std::size_t n = b.size();
-    std::vector<double> r(n), z(n), p(n), q(n);
-    apply(x, q);
-    for (std::size_t i = 0; i < n; ++i) r[i] = b[i] - q[i];
-    const double bnorm = std::sqrt(dot(b, b));
-    pcg_report rep;
-    if (!std::isfinite(bnorm)) throw solver_error("voxel FEM: the load vector is not finite");
-    if (bnorm == 0.0) {
-        std::fill(x.begin(), x.end(), 0.0);
-        rep.converged = true;
-        return rep;
-    }
-    double rnorm = std::sqrt(dot(r, r));
-    prec(r, z);
-    p = z;
-    double rz = dot(r, z);
-    for (int it = 0; it < max_it; ++it) {
-        rep.relative_residual = rnorm / bnorm;
-        if (rep.relative_residual <= tol) {
-            rep.converged = true;
-            return rep;
-        }
-        apply(p, q);
-        const double pq = dot(p, q);
-        if (!(pq > 0) || !std::isfinite(rz))
-            throw solver_error("voxel FEM: CG broke down at iteration " + std::to_string(it) +
-                               " (the stiffness matrix is singular or indefinite: is every solid part supported?)");
-        const double alpha = rz / pq;
-        parallel_for(0, n, [&](std::size_t i) { x[i] += alpha * p[i], r[i] -= alpha * q[i]; }, {.grain = 16384});
-        rnorm = std::sqrt(dot(r, r));
-        prec(r, z);
-        const double rz_new = dot(r, z);
-        const double beta = rz_new / rz;
-        rz = rz_new;
-        parallel_for(0, n, [&](std::size_t i) { p[i] = z[i] + beta * p[i]; }, {.grain = 16384});
-        rep.iterations = it + 1;
-        on_iteration(rep.iterations, rnorm / bnorm);
-    }
-    rep.relative_residual = rnorm / bnorm;
-    rep.converged = rep.relative_residual <= tol;
-    return rep;
-}
 
 }  // namespace fabsynth::fem::detail

@@ -20,6 +20,7 @@
 
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/types.hpp"
+#include "fabsynth/fem/detail/krylov.hpp"
 #include "fabsynth/fem/detail/voxel_element.hpp"
 
 namespace fabsynth::fem::detail {
@@ -56,13 +57,6 @@ struct node_grid {
         return static_cast<std::int64_t>(index(p.x, p.y, p.z));
     }
 };
-
-/// Deterministic dot product over n entries (block boundaries independent of the thread count).
-[[nodiscard]] inline double dot(const std::vector<double>& a, const std::vector<double>& b) {
-    return parallel_reduce(
-        0, a.size(), 0.0, [&](std::size_t i) { return a[i] * b[i]; }, [](double s, double t) { return s + t; },
-        {.grain = 8192});
-}
 
 /// Calls f(a, c, e) for each voxel c (linear index e) that has node p as its local corner a,
 /// wrapping periodic axes and skipping voxels outside a non-periodic grid; a ascends 0..7.
