@@ -8,6 +8,9 @@ packages=(
   libeigen3-dev libglm-dev libnanoflann-dev
   libspng-dev libcli11-dev
   libpolyclipping-dev libsuitesparse-dev lib3mf-dev
+  libopenblas0-pthread             # optimised BLAS/LAPACK: CHOLMOD's supernodal factorization (~3x the reference BLAS)
+  libmetis-dev                     # nested-dissection ordering of the LDL^T solver (fem/detail/linear_backends.hpp)
+  calculix-ccx                     # CalculiX: the independent FEM oracle of tests/fem/solve_context.cpp and bench_fem_decks
   libboost-dev                     # header-only: Boost.Polygon segment Voronoi (medial axis)
   catch2 libbenchmark-dev
   nlohmann-json3-dev               # the tools' --json summaries (examples/common/tool.hpp)

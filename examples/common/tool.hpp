@@ -17,6 +17,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -175,8 +178,20 @@ private:
 
 /// Parses the arguments and runs body(): every failure ends in a `fabsynth:` message on stderr and
 /// the exit code of the convention; --help and --version exit 0.
+/// glibc serves every allocation above its mmap threshold (at most 32 MiB) with a fresh mapping
+/// and unmaps it on free, so each large temporary (a sparse matrix, a slice buffer) is page-faulted
+/// in again: measured on fem_solve's 122 k-DOF deck, 244 k page faults and 5.5 s, against 130 k
+/// and 3.1 s when freed memory is kept for reuse. A tool is one short process, so it keeps it.
+inline void keep_freed_memory() {
+#if defined(__GLIBC__)
+    mallopt(M_MMAP_THRESHOLD, 1 << 30);
+    mallopt(M_TRIM_THRESHOLD, -1);
+#endif
+}
+
 template <class Body>
 int run(CLI::App& app, common& c, int argc, char** argv, Body&& body) {
+    keep_freed_memory();
     if (app.get_name().empty() && argc > 0) app.name(std::filesystem::path(argv[0]).filename().string());
     try {
         app.parse(argc, argv);

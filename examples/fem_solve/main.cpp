@@ -28,20 +28,18 @@ void put(std::string& s, double v) {
     s.append(buf, r.ptr);
 }
 
-template <class Solver>
-fem::static_result run(const fem::inp_deck& d) {
-    return fem::solve_linear_static<Solver>(d.model, d.loads);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"Linear static FEM solve of an Abaqus/CalculiX .inp deck (C3D8, C3D6, S3)", "fem_solve"};
     fabsynth::tool::common common(app);
-    std::string deck_path, out_dir, solver = "ldlt";
+    std::string deck_path, out_dir, solver = "auto";
     app.add_option("deck", deck_path, "input deck (.inp)")->required();
     app.add_option("-o,--output", out_dir, "output directory")->required();
-    app.add_option("--solver", solver, "ldlt | cg | cg-jacobi | cholmod")->check(CLI::IsMember({"ldlt", "cg", "cg-jacobi", "cholmod"}));
+    app.add_option("--solver", solver,
+                   "auto (default: ldlt when small; amg for large solid meshes; cholmod, else ldlt, for large shell meshes) | "
+                   "ldlt | cholmod | cg | cg-jacobi | amg")
+        ->check(CLI::IsMember({"auto", "ldlt", "cholmod", "cg", "cg-jacobi", "amg"}));
 
     return fabsynth::tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
@@ -50,19 +48,14 @@ int main(int argc, char** argv) {
         progress(0.0, "read deck");
         const auto t0 = std::chrono::steady_clock::now();
         const fem::inp_deck d = fem::parse_inp(fabsynth::io::detail::read_file(deck_path), deck_path);
-        fem::static_result r;
         progress(0.1, "solve");
-        if (solver == "cg") r = run<fem::cg_ichol_solver>(d);
-        else if (solver == "cg-jacobi") r = run<fem::cg_jacobi_solver>(d);
-        else if (solver == "cholmod") {
-#if defined(FABSYNTH_HAS_CHOLMOD)
-            r = run<fem::cholmod_solver>(d);
-#else
-            throw fabsynth::invalid_input("--solver cholmod: this build has no CHOLMOD (SuiteSparse not found)");
-#endif
-        } else {
-            r = run<fem::ldlt_solver>(d);
-        }
+        fem::solve_options options;
+        options.method = fem::parse_solver_method(solver);
+        if (!fem::method_available(options.method))
+            throw fabsynth::invalid_input("--solver " + solver + ": this build has no CHOLMOD (SuiteSparse not found)");
+        fem::solve_context context(d.model, d.loads, options);
+        const fem::static_result r = context.solve(d.loads);
+        const fem::solve_statistics& st = context.statistics();
         const fem::mesh& m = d.model;
         progress(0.7, "stresses");
         const auto stress = fem::centroid_stresses(m, r);
@@ -120,8 +113,9 @@ int main(int argc, char** argv) {
         std::ostringstream line;
         line << "fem_solve: " << m.nodes.size() << " nodes, " << m.elements.size() << " elements, " << r.dofs.total
              << " dofs; max |u| = " << umax << " mm at node " << m.node_label(umax_node) << "; max von Mises = " << vm_max
-             << " MPa in element " << m.element_label(vm_el) << "; solver " << solver << ", residual " << r.relative_residual << ", "
-             << secs << " s";
+             << " MPa in element " << m.element_label(vm_el) << "; solver " << st.method << " (" << st.reason << ")"
+             << (st.last_iterations ? ", " + std::to_string(st.last_iterations) + " CG iterations" : std::string()) << ", residual "
+             << r.relative_residual << ", " << secs << " s";
         common.say(line.str());
         common.summary({{"nodes", m.nodes.size()},
                         {"elements", m.elements.size()},
@@ -130,7 +124,14 @@ int main(int argc, char** argv) {
                         {"max_displacement_node", m.node_label(umax_node)},
                         {"max_von_mises_mpa", vm_max},
                         {"max_von_mises_element", m.element_label(vm_el)},
-                        {"solver", solver},
+                        {"solver", st.method},
+                        {"solver_requested", solver},
+                        {"solver_reason", st.reason},
+                        {"cg_iterations", st.last_iterations},
+                        {"assemble_seconds", st.assemble_seconds},
+                        {"analyze_seconds", st.analyze_seconds},
+                        {"factorize_seconds", st.factorize_seconds},
+                        {"solve_seconds", st.solve_seconds},
                         {"relative_residual", r.relative_residual},
                         {"outputs", {(out / "displacements.csv").string(), (out / "stresses.csv").string(), (out / "result.vtk").string()}},
                         {"seconds", secs}});
