@@ -176,12 +176,10 @@ private:
     nlohmann::ordered_json summary_ = nlohmann::ordered_json::object();
 };
 
-/// Parses the arguments and runs body(): every failure ends in a `fabsynth:` message on stderr and
-/// the exit code of the convention; --help and --version exit 0.
 /// glibc serves every allocation above its mmap threshold (at most 32 MiB) with a fresh mapping
 /// and unmaps it on free, so each large temporary (a sparse matrix, a slice buffer) is page-faulted
-/// in again: measured on fem_solve's 122 k-DOF deck, 244 k page faults and 5.5 s, against 130 k
-/// and 3.1 s when freed memory is kept for reuse. A tool is one short process, so it keeps it.
+/// in again (benchmarks/README.md, FEM at scale). A tool is one short process: it keeps freed
+/// memory for reuse instead.
 inline void keep_freed_memory() {
 #if defined(__GLIBC__)
     mallopt(M_MMAP_THRESHOLD, 1 << 30);
@@ -189,6 +187,8 @@ inline void keep_freed_memory() {
 #endif
 }
 
+/// Parses the arguments and runs body(): every failure ends in a `fabsynth:` message on stderr and
+/// the exit code of the convention; --help and --version exit 0.
 template <class Body>
 int run(CLI::App& app, common& c, int argc, char** argv, Body&& body) {
     keep_freed_memory();

@@ -296,3 +296,27 @@ TEST_CASE("CalculiX gives the same displacements on the written deck", "[fem][cc
         CHECK(err < 1e-6 * umax);  // ccx prints 7 significant digits
     }
 }
+
+TEST_CASE("large-shell methods converge to the clamped plate table", "[fem][shell][plate][context]") {
+    // Timoshenko & Woinowsky-Krieger, Table 35: clamped square plate, w_centre = 0.00126 q a^4 / D.
+    const double a = 100, t = 1, q = 1e-3, E = 1000, nu = 0.3;
+    const double exact = 0.00126 * q * a * a * a * a / (E * t * t * t / (12 * (1 - nu * nu)));
+    solve_options large;
+    large.direct_limit = 1000;  // what automatic does above the limit on a shell mesh
+    for (solver_method method : {solver_method::automatic, solver_method::amg}) {
+        INFO("method " << method_name(method));
+        large.method = method;
+        double previous_error = INFINITY;
+        for (int n : {8, 16, 32}) {
+            const problem p = clamped_plate(n, a, t);
+            solve_context ctx(p.m, p.lc, large);
+            const static_result r = ctx.solve(p.lc);
+            const auto centre = static_cast<std::size_t>(n / 2 + (n + 1) * (n / 2));
+            const double error = std::abs(-r.displacement(centre).z - exact) / exact;
+            INFO("n " << n << " centre deflection " << -r.displacement(centre).z << " table " << exact << " via " << ctx.statistics().method);
+            CHECK(error < previous_error);
+            if (n == 32) CHECK(error < 0.01);
+            previous_error = error;
+        }
+    }
+}

@@ -42,7 +42,7 @@ namespace fabsynth::fem {
 
 struct amg_options {
     double strength = 0.08;              ///< strong-coupling threshold theta on level 0, halved per level (Vanek et al.)
-    std::size_t coarse_unknowns = 3000;  ///< dense Cholesky at or below this many unknowns
+    std::size_t coarse_unknowns = 1500;  ///< dense Cholesky at or below this many unknowns
     int max_levels = 12;
     int smoothing_degree = 2;       ///< Chebyshev degree of each pre- and post-smoothing
     double smoothing_range = 30.0;  ///< the smoother targets the spectrum [lambda_max / range, lambda_max]

@@ -65,14 +65,17 @@ struct solve_statistics {
     int analyses = 0, factorizations = 0, solves = 0;
     int reused_solves = 0;     ///< solves answered by CG on a previous factorization
     long last_iterations = 0;  ///< CG iterations of the last solve (0 for a direct solve)
-    double assemble_seconds = 0, analyze_seconds = 0, factorize_seconds = 0, solve_seconds = 0;
+    double assemble_seconds = 0;   ///< constructor: checks, assembly, split
+    double analyze_seconds = 0;    ///< symbolic analyses
+    double factorize_seconds = 0;  ///< numeric factorizations / AMG set-ups
+    double solve_seconds = 0;      ///< inside solve(), including the factorizations it triggered
 };
 
 class solve_context {
 public:
     /// m: the mesh (copied); supports.fixed: the DOFs held fixed in every solve, with default
     /// values (other members of supports are ignored). Throws invalid_input for a bad mesh or
-    /// supports, solver_error for an unsupported part or an unavailable method.
+    /// supports or a method this build lacks, solver_error for a part that is not held.
     solve_context(mesh m, const load_case& supports, const solve_options& opt = {}) : m_(std::move(m)), opt_(opt) {
         const auto t0 = clock::now();
         m_.validate();
