@@ -10,7 +10,7 @@
 /// elasticity) exactly on each aggregate (a rank-revealing QR per aggregate); it is smoothed by one
 /// damped Jacobi step, omega = 4 / (3 lambda_max(D^-1 A)); coarse matrices are Galerkin products
 /// P^T A P. Smoother: Chebyshev polynomial of D^-1 A (the same pre and post, so the V-cycle is a
-/// symmetric positive definite preconditioner). Coarsest level: dense Cholesky.
+/// symmetric positive definite preconditioner). Coarsest level: sparse LDL^T.
 ///
 /// Written here because no Debian-packaged AMG library works without MPI (hypre and PETSc need it);
 /// direct factorizations of 3D solid meshes grow as n^2 in flops, AMG-preconditioned CG as n.
@@ -23,6 +23,7 @@
 ///   amg.precondition(r, z);                                      // z ~= A^-1 r (one V-cycle)
 #include <Eigen/Core>
 #include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 #include <algorithm>
@@ -42,7 +43,7 @@ namespace fabsynth::fem {
 
 struct amg_options {
     double strength = 0.08;              ///< strong-coupling threshold theta on level 0, halved per level (Vanek et al.)
-    std::size_t coarse_unknowns = 1500;  ///< dense Cholesky at or below this many unknowns
+    std::size_t coarse_unknowns = 1500;  ///< direct LDL^T at or below this many unknowns
     int max_levels = 12;
     int smoothing_degree = 2;       ///< Chebyshev degree of each pre- and post-smoothing
     double smoothing_range = 30.0;  ///< the smoother targets the spectrum [lambda_max / range, lambda_max]
@@ -184,7 +185,8 @@ public:
         build(std::move(block_start), std::move(near_nullspace));
     }
 
-    /// z = M^-1 r: one V-cycle from a zero start (r, z: n entries).
+    /// z = M^-1 r: one V-cycle from a zero start (r, z: n entries). Uses the hierarchy's work
+    /// vectors: not for concurrent calls on one object.
     void precondition(const std::vector<double>& r, std::vector<double>& z) const {
         levels_[0].b = r;
         vcycle(0);
@@ -198,13 +200,12 @@ public:
         for (const level& L : levels_) s.push_back(L.inv_diag.size());
         return s;
     }
-    /// Stored entries of the coarse matrices, prolongators and the dense coarsest factor.
+    /// Stored entries of the coarse matrices, prolongators and the coarsest factor.
     [[nodiscard]] double stored_entries() const {
         double c = 0;
         for (std::size_t l = 0; l < levels_.size(); ++l)
             c += static_cast<double>(levels_[l].A.nonZeros() + levels_[l].P.nonZeros() + levels_[l].R.nonZeros());
-        const double nc = static_cast<double>(levels_.empty() ? 0 : levels_.back().inv_diag.size());
-        return c + nc * nc;
+        return c + static_cast<double>(coarse_.matrixL().nestedExpression().nonZeros());
     }
     /// Re-reads the diagonal and the spectrum bound of the fine matrix after its values changed in
     /// place (same pattern), keeping the coarse levels: the V-cycle stays a symmetric positive
@@ -412,10 +413,14 @@ private:
         return T;
     }
 
+    /// Sparse LDL^T of the coarsest matrix (sparse, so that a level where coarsening stalled
+    /// cannot ask for a huge dense matrix); a non-positive pivot means a singular stiffness matrix.
     void factor_coarsest() {
-        const Eigen::MatrixXd Ac(matrix(levels_.size() - 1));
+        const Eigen::SparseMatrix<double>& Ac = matrix(levels_.size() - 1);
         coarse_.compute(Ac);
-        if (coarse_.info() != Eigen::Success)
+        const bool positive = coarse_.info() == Eigen::Success && coarse_.vectorD().size() == Ac.rows() &&
+                              coarse_.vectorD().minCoeff() > 1e-13 * coarse_.vectorD().cwiseAbs().maxCoeff();
+        if (!positive)
             throw solver_error("AMG: the coarsest matrix (" + std::to_string(Ac.rows()) +
                                " unknowns) is not positive definite: the stiffness matrix is singular (a mechanism: missing "
                                "supports, a loose element or a hinge)");
@@ -455,7 +460,7 @@ private:
     amg_options opt_;
     std::vector<level> levels_;
     Eigen::SparseMatrix<double> pending_;
-    Eigen::LLT<Eigen::MatrixXd> coarse_;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> coarse_;
 };
 
 }  // namespace fabsynth::fem
