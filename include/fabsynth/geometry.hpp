@@ -6,6 +6,7 @@
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/geometry/distance.hpp"
+#include "fabsynth/geometry/distance_transform.hpp"
 #include "fabsynth/geometry/extrude.hpp"
 #include "fabsynth/geometry/marching_cubes.hpp"
 #include "fabsynth/geometry/medial_axis.hpp"
