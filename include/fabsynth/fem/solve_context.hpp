@@ -163,7 +163,7 @@ public:
         r.reactions = -f;
         std::vector<double> Kx(nf);
         if (nf > 0) detail::transposed_product(Kff(), x.data(), Kx.data());
-        for (std::size_t i = 0; i < nf; ++i) r.reactions(static_cast<Eigen::Index>(free_[i])) += Kx[i] - b[i] + f(static_cast<Eigen::Index>(free_[i]));
+        for (std::size_t i = 0; i < nf; ++i) r.reactions(static_cast<Eigen::Index>(free_[i])) = Kx[i] - b[i];  // K_ff x + K_fc u_c - f_f
         for (std::size_t c = 0; c < fixed.size(); ++c) {
             double s = 0;
             for (sparse_matrix::InnerIterator it(Kc_, static_cast<Eigen::Index>(c)); it; ++it) s += it.value() * r.u(it.row());
