@@ -136,17 +136,32 @@ public:
     void refresh(std::size_t v) noexcept { sample_(ls_.map(lv_.center(v), labels_[v]), &colour_[v * C]); }
     [[nodiscard]] const float* colour(std::size_t v) const noexcept { return &colour_[v * C]; }
 
+    /// Weighted moments of the expected colours e_k with pair weights w_k: sum w_k, sum w_k e_k and
+    /// sum w_k |e_k|^2. The terms at v, sum_k w_k |I(M(v, c)) - e_k|^2, are then
+    /// W |i|^2 - 2 i . S1 + S2 for i = I(M(v, c)): O(C) per candidate instead of O(|N(v)| C).
+    struct moments {
+        double w = 0, s2 = 0;
+        double s1[C]{};
+    };
     /// Scratch size per voxel for expected(): C floats per neighbour plus one weight.
     [[nodiscard]] std::size_t expected_size(std::size_t v) const noexcept { return static_cast<std::size_t>(nb_.count(v)) * (C + 1); }
     /// What local() needs about v's neighbours, computed once per voxel and pass: out[k C + c] =
     /// I(M(v, c_w)) for the k-th neighbour w (what its mapping expects at v), then the pair weights
-    /// 1/|N(v)| + 1/|N(w)|.
-    void expected(std::size_t v, float* out) const noexcept {
+    /// 1/|N(v)| + 1/|N(w)|; their moments in `m`.
+    void expected(std::size_t v, float* out, moments& m) const noexcept {
         const vec3 x = lv_.center(v);
         const std::uint32_t n = nb_.count(v);
+        m = moments{};
         for (std::uint32_t k = nb_.offset[v], j = 0; k < nb_.offset[v + 1]; ++k, ++j) {
-            sample_(ls_.map(x, labels_[nb_.index[k]]), out + j * C);
-            out[n * C + j] = inv_count_[v] + inv_count_[nb_.index[k]];
+            float* e = out + j * C;
+            sample_(ls_.map(x, labels_[nb_.index[k]]), e);
+            const float w = inv_count_[v] + inv_count_[nb_.index[k]];
+            out[n * C + j] = w;
+            m.w += w;
+            for (int c = 0; c < C; ++c) {
+                m.s1[c] += static_cast<double>(w) * e[c];
+                m.s2 += static_cast<double>(w) * e[c] * e[c];
+            }
         }
     }
 
@@ -159,15 +174,19 @@ public:
         const double d = std::min({x, W - x, y, H - y});
         return d < border_margin_px_ ? opt_.border_penalty : 0.0;
     }
+    /// lambda (1 - n(v) . n(psi)): a lower bound of L_v for every label on plane psi.
+    [[nodiscard]] double distortion(std::size_t v, int plane) const noexcept {
+        return opt_.distortion_weight * (1.0 - glm::dot(lv_.normals[v], ls_.normal(plane)));
+    }
     /// lambda (1 - n(v) . n(psi)) + P.
     [[nodiscard]] double unary(std::size_t v, std::uint32_t label) const noexcept {
-        return opt_.distortion_weight * (1.0 - glm::dot(lv_.normals[v], ls_.normal(ls_.plane(label)))) + penalty(v, label);
+        return distortion(v, ls_.plane(label)) + penalty(v, label);
     }
 
-    /// L_v(label) (file comment) given expected(v) in `exp`; stops once the sum reaches `bound` and
-    /// returns a value >= bound then (branch and bound over the candidates). The terms at v, which
-    /// need no new lookup, are summed first; the lookups at the neighbours follow.
-    [[nodiscard]] double local(std::size_t v, std::uint32_t label, const float* exp,
+    /// L_v(label) (file comment) given expected(v) in `exp` and `mom`; stops once the sum reaches
+    /// `bound` and returns a value >= bound then (branch and bound over the candidates). The terms at
+    /// v, which need one lookup, come first (through the moments); the lookups at the neighbours follow.
+    [[nodiscard]] double local(std::size_t v, std::uint32_t label, const float* exp, const moments& mom,
                                double bound = std::numeric_limits<double>::infinity()) const noexcept {
         double e = unary(v, label);
         if (e >= bound) return e;
@@ -175,12 +194,12 @@ public:
         const vec2 px = m(lv_.center(v));
         float iv[C], iw[C];
         sample_(px, iv);
+        double ii = 0, is1 = 0;
+        for (int c = 0; c < C; ++c) ii += static_cast<double>(iv[c]) * iv[c], is1 += static_cast<double>(iv[c]) * mom.s1[c];
+        e += std::max(0.0, mom.w * ii - 2 * is1 + mom.s2);  // the terms at v (moments; >= 0 up to rounding)
+        if (e >= bound) return e;
         const std::uint32_t n = nb_.count(v), first = nb_.offset[v];
         const float* weight = exp + static_cast<std::size_t>(n) * C;
-        float at_v = 0;
-        for (std::uint32_t j = 0; j < n; ++j) at_v += weight[j] * detail::squared_difference<C>(iv, exp + j * C);
-        e += static_cast<double>(at_v);
-        if (e >= bound) return e;
         for (std::uint32_t j = 0; j < n; ++j) {
             const std::uint32_t k = first + j;
             sample_(px + m.linear(offsets_[nb_.code[k]]), iw);

@@ -141,19 +141,19 @@ public:
     /// components sorted by magnitude a >= b >= c, the best face, edge and corner directions score
     /// a, (a + b) / sqrt 2 and (a + b + c) / sqrt 3 (ties to the face, then the edge).
     [[nodiscard]] int nearest_plane(const vec3& d) const noexcept {
-        const double m[3] = {std::abs(d.x), std::abs(d.y), std::abs(d.z)};
-        int i0 = 0, i1 = 1, i2 = 2;
-        if (m[i1] > m[i0]) std::swap(i0, i1);
-        if (m[i2] > m[i0]) std::swap(i0, i2);
-        if (m[i2] > m[i1]) std::swap(i1, i2);
-        const double face = m[i0], edge = (m[i0] + m[i1]) * std::numbers::sqrt2 / 2,
-                     corner = (m[i0] + m[i1] + m[i2]) * std::numbers::inv_sqrt3;
-        int s[3] = {0, 0, 0};
-        auto sign = [&](int i) { return d[i] < 0 ? -1 : 1; };
-        s[i0] = sign(i0);
-        if (corner > face && corner > edge) s[i1] = sign(i1), s[i2] = sign(i2);
-        else if (edge > face) s[i1] = sign(i1);
-        const int code = (s[0] + 1) * 9 + (s[1] + 1) * 3 + (s[2] + 1);  // constructor order, (0,0,0) = 13 skipped
+        // written with selects rather than a sort: the random candidates call this in the inner loop
+        // with unpredictable inputs, where sorting branches mispredict
+        const double a = std::abs(d.x), b = std::abs(d.y), c = std::abs(d.z);
+        const double mx = std::max(a, std::max(b, c)), mn = std::min(a, std::min(b, c)), sum = a + b + c;
+        const double face = mx, edge = (sum - mn) * (std::numbers::sqrt2 / 2), corner = sum * std::numbers::inv_sqrt3;
+        const bool use_corner = corner > face && corner > edge, use_edge = !use_corner && edge > face;
+        const int imax = a >= b ? (a >= c ? 0 : 2) : (b >= c ? 1 : 2), imin = a <= b ? (a <= c ? 0 : 2) : (b <= c ? 1 : 2);
+        int code = 13;  // (0, 0, 0) in the constructor's order (i + 1) * 9 + (j + 1) * 3 + (l + 1)
+        constexpr int weight[3] = {9, 3, 1};
+        for (int i = 0; i < 3; ++i) {
+            const bool in = use_corner || (use_edge ? i != imin : i == imax);
+            code += in ? (d[i] < 0 ? -weight[i] : weight[i]) : 0;
+        }
         return code > 13 ? code - 1 : code;
     }
     /// The rotation that makes the exemplar's up direction (-y in pixels) follow the tangent

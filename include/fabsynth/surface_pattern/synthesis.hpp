@@ -21,6 +21,9 @@
 /// one that makes the exemplar's up direction follow the user's 'up' projected on the surface (the
 /// paper's "naive vector field around the 'up' direction"; §4.3: tau "biased towards a predefined
 /// orientation"). The candidate of lowest local energy (energy.hpp) wins; ties keep the current one.
+/// Candidates are evaluated by branch and bound against the best so far, and a random candidate
+/// whose plane's distortion alone reaches it is discarded before its transform is drawn (it could
+/// not win), so most of the 128 cost a plane draw and one exemplar lookup.
 ///
 /// Parallel sub-passes (after Lefebvre & Hoppe 2005): a pass visits the 27 classes
 /// (x mod 3, y mod 3, z mod 3) in order and updates each class in parallel. Two voxels of one class
@@ -219,6 +222,10 @@ public:
     /// maps to cos(theta) = 1 - r^2 (1 - cos(alpha)), which is uniform in [cos(alpha), 1].
     [[nodiscard]] std::uint32_t draw(candidate_source& s, counter_rng& rng) const {
         if (!opt_.allowed_labels.empty()) return opt_.allowed_labels[rng.uniform_int(opt_.allowed_labels.size())];
+        return complete(s, draw_plane(s, rng), rng);
+    }
+    /// The plane of a random candidate (first half of draw()).
+    [[nodiscard]] int draw_plane(const candidate_source& s, counter_rng& rng) const {
         constexpr double unit26 = 1.0 / (1 << 25);  // 26-bit halves of one draw, mapped to [-1, 1)
         double x, y, r2;
         do {
@@ -228,7 +235,10 @@ public:
             r2 = x * x + y * y;
         } while (r2 > 1 || r2 == 0);
         const double c = 1.0 - r2 * one_minus_cos_, sin_over_r = std::sqrt(std::max(0.0, 1.0 - c * c) / r2);
-        const int plane = labels_.nearest_plane(c * s.n + sin_over_r * (x * s.t1 + y * s.t2));
+        return labels_.nearest_plane(c * s.n + sin_over_r * (x * s.t1 + y * s.t2));
+    }
+    /// The translation and rotation of a random candidate on `plane` (second half of draw()).
+    [[nodiscard]] std::uint32_t complete(candidate_source& s, int plane, counter_rng& rng) const {
         const std::uint64_t b = rng.next_u64();  // translations from its two 32-bit halves (multiply-shift)
         const auto T = static_cast<std::uint64_t>(opt_.translations);
         const int tx = static_cast<int>(((b & 0xffffffffu) * T) >> 32), ty = static_cast<int>(((b >> 32) * T) >> 32);
@@ -286,9 +296,10 @@ private:
                     const bool is_forced = !forced.empty() && forced[v];
                     auto valid = [&](std::uint32_t label) { return !is_forced || solid_at(labels_.map(l.center(v), label)); };
                     exp.resize(en.expected_size(v));
-                    en.expected(v, exp.data());
+                    typename level_energy<C>::moments mom;
+                    en.expected(v, exp.data(), mom);
                     std::uint32_t best = labels[v];
-                    double e_best = valid(best) ? en.local(v, best, exp.data()) : std::numeric_limits<double>::infinity();
+                    double e_best = valid(best) ? en.local(v, best, exp.data(), mom) : std::numeric_limits<double>::infinity();
                     // coherent candidates: the distinct labels of the neighbours
                     cand.clear();
                     for (std::uint32_t k = nb.offset[v]; k < nb.offset[v + 1]; ++k) cand.push_back(labels[nb.index[k]]);
@@ -298,16 +309,28 @@ private:
                     counter_rng rng(opt_.seed, tag_candidates, round, static_cast<std::uint64_t>(level), static_cast<std::uint64_t>(pass),
                                     static_cast<std::uint64_t>(v));
                     candidate_source src = source_of(level, v);
-                    while (cand.size() < static_cast<std::size_t>(opt_.candidates)) cand.push_back(draw(src, rng));
                     auto consider = [&](std::uint32_t c) {
                         if (c == best || !valid(c)) return;
-                        ++count;
-                        const double e = en.local(v, c, exp.data(), e_best);
+                        const double e = en.local(v, c, exp.data(), mom, e_best);
                         if (e < e_best) e_best = e, best = c;
                     };
                     for (std::uint32_t c : cand) consider(c);
+                    count += cand.size();
+                    // random candidates up to the total; a plane whose distortion alone reaches the best energy
+                    // cannot win, so its transform is not drawn (the energy is never below the distortion term)
+                    const std::size_t random = static_cast<std::size_t>(opt_.candidates) - cand.size();
+                    for (std::size_t i = 0; i < random; ++i) {
+                        ++count;
+                        if (!opt_.allowed_labels.empty()) {
+                            consider(draw(src, rng));
+                            continue;
+                        }
+                        const int plane = draw_plane(src, rng);
+                        if (en.distortion(v, plane) >= e_best) continue;
+                        consider(complete(src, plane, rng));
+                    }
                     // a forced voxel whose candidates all map it to empty keeps looking (bounded)
-                    for (int extra = 0; !std::isfinite(e_best) && extra < 4 * opt_.candidates; ++extra) consider(draw(src, rng));
+                    for (int extra = 0; !std::isfinite(e_best) && extra < 4 * opt_.candidates; ++extra, ++count) consider(draw(src, rng));
                     if (best != labels[v]) {
                         labels[v] = best;
                         en.refresh(v);
