@@ -2,7 +2,7 @@
 #pragma once
 /// @file geometry.hpp  Geometry building blocks: meshes, polygons, Clipper booleans, distances,
 /// marching cubes, mesh topology, planar curves with a band map, triangulation, extrusion and the
-/// medial axis of polygons with holes.
+/// medial axis of polygons with holes, and shaded previews of meshes (render.hpp).
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/geometry/distance.hpp"
@@ -13,4 +13,5 @@
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/render.hpp"
 #include "fabsynth/geometry/triangulate.hpp"
