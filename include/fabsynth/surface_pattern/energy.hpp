@@ -103,7 +103,7 @@ class level_energy {
 public:
     /// @param labels  the level's labels (one per voxel); read at every call, so updates are seen
     /// @param stack_level  the Gaussian-stack level sampled (normally the voxel level)
-    level_energy(const shell_level& lv, const neighbourhood& nb, const label_space& ls, const exemplar& ex, int stack_level,
+    level_energy(const shell_level& lv, const shell_neighbourhood& nb, const label_space& ls, const exemplar& ex, int stack_level,
                  const energy_options& opt, const std::vector<std::uint32_t>& labels)
         : lv_(lv), nb_(nb), ls_(ls), ex_(ex), opt_(opt), labels_(labels) {
         if (ex.channels() != C) throw invalid_input("level energy: exemplar channel count does not match");
@@ -124,7 +124,7 @@ public:
 
     [[nodiscard]] std::size_t size() const noexcept { return lv_.size(); }
     [[nodiscard]] const shell_level& level() const noexcept { return lv_; }
-    [[nodiscard]] const neighbourhood& neighbours() const noexcept { return nb_; }
+    [[nodiscard]] const shell_neighbourhood& neighbours() const noexcept { return nb_; }
     [[nodiscard]] const label_space& labels_space() const noexcept { return ls_; }
     [[nodiscard]] const exemplar& source() const noexcept { return ex_; }
 
@@ -154,7 +154,8 @@ public:
         m = moments{};
         for (std::uint32_t k = nb_.offset[v], j = 0; k < nb_.offset[v + 1]; ++k, ++j) {
             float* e = out + j * C;
-            sample_(ls_.map(x, labels_[nb_.index[k]]), e);
+            if (labels_[nb_.index[k]] == labels_[v]) std::copy_n(&colour_[v * C], C, e);  // the same lookup, already cached
+            else sample_(ls_.map(x, labels_[nb_.index[k]]), e);
             const float w = inv_count_[v] + inv_count_[nb_.index[k]];
             out[n * C + j] = w;
             m.w += w;
@@ -202,6 +203,7 @@ public:
         const float* weight = exp + static_cast<std::size_t>(n) * C;
         for (std::uint32_t j = 0; j < n; ++j) {
             const std::uint32_t k = first + j;
+            if (labels_[nb_.index[k]] == label) continue;  // I(M(w, c)) is w's own colour: the term is 0
             sample_(px + m.linear(offsets_[nb_.code[k]]), iw);
             e += static_cast<double>(weight[j] * detail::squared_difference<C>(iw, &colour_[static_cast<std::size_t>(nb_.index[k]) * C]));
             if (e >= bound) return e;
@@ -219,6 +221,7 @@ public:
         float a[C], b[C];
         for (std::uint32_t k = nb_.offset[v]; k < nb_.offset[v + 1]; ++k) {
             const std::uint32_t w = nb_.index[k];
+            if (labels_[w] == cv) continue;  // coherent pair: both terms are 0
             sample_(ls_.map(x, labels_[w]), a);  // I(M(v, c_w)) against I(M(v, c_v))
             t += detail::squared_difference<C>(colour(v), a);
             sample_(pv + mv.linear(offsets_[nb_.code[k]]), b);  // I(M(w, c_v)) against I(M(w, c_w))
@@ -234,7 +237,7 @@ public:
 
 private:
     const shell_level& lv_;
-    const neighbourhood& nb_;
+    const shell_neighbourhood& nb_;
     const label_space& ls_;
     const exemplar& ex_;
     energy_options opt_;

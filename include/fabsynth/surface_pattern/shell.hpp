@@ -23,11 +23,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/huge_pages.hpp"
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/mesh.hpp"
@@ -211,9 +213,9 @@ inline shell_level coarsen(shell_level& fine) {
 }
 
 /// Neighbours of every voxel of a level inside the (2r+1)^3 box around it (the 5x5x5 neighbourhood
-/// N(v) of §4.2 for r = 2), the voxel itself excluded, as CSR lists in increasing voxel order; `code`
-/// is the offset's index (dx + r) + (2r+1) ((dy + r) + (2r+1) (dz + r)).
-struct neighbourhood {
+/// N(v) of §4.2 for r = 2), the voxel itself excluded, as CSR lists ordered farthest offset first
+/// (ties by code); `code` is the offset's index (dx + r) + (2r+1) ((dy + r) + (2r+1) (dz + r)).
+struct shell_neighbourhood {
     int radius = 2;
     std::vector<std::uint32_t> offset;  ///< size + 1
     std::vector<std::uint32_t> index;   ///< neighbour voxel indices
@@ -221,54 +223,89 @@ struct neighbourhood {
     [[nodiscard]] std::uint32_t count(std::size_t v) const noexcept { return offset[v + 1] - offset[v]; }
 };
 
-/// Builds the neighbour lists of a level (parallel over voxels, deterministic). radius 1..3.
-[[nodiscard]] inline neighbourhood build_neighbourhood(const shell_level& lv, int radius = 2) {
+/// Builds the neighbour lists of a level (parallel over groups of rows, deterministic). radius 1..3.
+/// Each row of voxels is merged with its (2r+1)^2 neighbouring rows by pointers that only move
+/// forward, so the cost is O(voxels x (2r+1)^2) without searches; a counting pass sizes the lists,
+/// which are advised as huge pages before they are filled (first-touch faults dominate otherwise).
+[[nodiscard]] inline shell_neighbourhood build_neighbourhood(const shell_level& lv, int radius = 2) {
     if (radius < 1 || radius > 3) throw invalid_input("neighbourhood radius must be in [1, 3], got " + std::to_string(radius));
     const std::size_t n = lv.size();
     const int side = 2 * radius + 1;
-    std::vector<std::uint32_t> counts(n + 1, 0);
     const ivec3& d = lv.geometry.dims;
-    // visit(v, f): f(neighbour index, code) for the neighbours of v in increasing index order
-    auto visit = [&](std::size_t v, auto&& f) {
-        const ivec3 p = lv.voxels[v];
-        for (int dz = -radius; dz <= radius; ++dz) {
-            const int z = p.z + dz;
-            if (z < 0 || z >= d.z) continue;
-            for (int dy = -radius; dy <= radius; ++dy) {
-                const int y = p.y + dy;
-                if (y < 0 || y >= d.y) continue;
-                const std::size_t row = static_cast<std::size_t>(z) * static_cast<std::size_t>(d.y) + static_cast<std::size_t>(y);
-                auto first = lv.voxels.begin() + lv.row_offset[row], last = lv.voxels.begin() + lv.row_offset[row + 1];
-                auto it = std::lower_bound(first, last, p.x - radius, [](const ivec3& a, int x) { return a.x < x; });
-                for (; it != last && it->x <= p.x + radius; ++it) {
-                    const auto w = static_cast<std::size_t>(it - lv.voxels.begin());
-                    if (w == v) continue;
-                    const int code = (it->x - p.x + radius) + side * ((dy + radius) + side * (dz + radius));
-                    f(w, code);
+    const std::size_t rows = static_cast<std::size_t>(d.y) * static_cast<std::size_t>(d.z);
+    constexpr std::size_t rows_per_task = 256;
+    const std::size_t tasks = (rows + rows_per_task - 1) / rows_per_task;
+    // scan(t, emit): emit(v, w, code) for every voxel v of task t's rows and its neighbours w, in order
+    auto scan = [&](std::size_t t, auto&& emit) {
+        std::vector<std::uint32_t> ptr(static_cast<std::size_t>(side * side)), stop(static_cast<std::size_t>(side * side));
+        std::vector<int> code_base(static_cast<std::size_t>(side * side));
+        for (std::size_t row = t * rows_per_task; row < std::min(rows, (t + 1) * rows_per_task); ++row) {
+            const std::uint32_t first = lv.row_offset[row], last = lv.row_offset[row + 1];
+            if (first == last) continue;
+            const int y = static_cast<int>(row % static_cast<std::size_t>(d.y)), z = static_cast<int>(row / static_cast<std::size_t>(d.y));
+            int m = 0;  // neighbouring rows in increasing (z, y) order, i.e. increasing voxel index
+            for (int dz = -radius; dz <= radius; ++dz)
+                for (int dy = -radius; dy <= radius; ++dy) {
+                    const int yy = y + dy, zz = z + dz;
+                    if (yy < 0 || yy >= d.y || zz < 0 || zz >= d.z) continue;
+                    const std::size_t r = static_cast<std::size_t>(zz) * static_cast<std::size_t>(d.y) + static_cast<std::size_t>(yy);
+                    ptr[static_cast<std::size_t>(m)] = lv.row_offset[r];
+                    stop[static_cast<std::size_t>(m)] = lv.row_offset[r + 1];
+                    code_base[static_cast<std::size_t>(m)] = side * ((dy + radius) + side * (dz + radius));
+                    ++m;
+                }
+            for (std::uint32_t v = first; v < last; ++v) {
+                const int x = lv.voxels[v].x;
+                for (int k = 0; k < m; ++k) {
+                    std::uint32_t& p = ptr[static_cast<std::size_t>(k)];
+                    const std::uint32_t e = stop[static_cast<std::size_t>(k)];
+                    while (p < e && lv.voxels[p].x < x - radius) ++p;
+                    for (std::uint32_t q = p; q < e && lv.voxels[q].x <= x + radius; ++q)
+                        if (q != v) emit(v, q, lv.voxels[q].x - x + radius + code_base[static_cast<std::size_t>(k)]);
                 }
             }
         }
     };
-    parallel_for(0, n, [&](std::size_t v) {
-        std::uint32_t c = 0;
-        visit(v, [&](std::size_t, int) { ++c; });
-        counts[v + 1] = c;
-    }, {.grain = 256});
-    neighbourhood nb;
+    shell_neighbourhood nb;
     nb.radius = radius;
-    nb.offset.resize(n + 1);
-    nb.offset[0] = 0;
-    for (std::size_t v = 0; v < n; ++v) nb.offset[v + 1] = nb.offset[v] + counts[v + 1];
-    nb.index.resize(nb.offset[n]);
-    nb.code.resize(nb.offset[n]);
-    parallel_for(0, n, [&](std::size_t v) {
-        std::uint32_t k = nb.offset[v];
-        visit(v, [&](std::size_t w, int code) {
-            nb.index[k] = static_cast<std::uint32_t>(w);
+    nb.offset.assign(n + 1, 0);
+    parallel_for(0, tasks, [&](std::size_t t) { scan(t, [&](std::uint32_t v, std::uint32_t, int) { ++nb.offset[v + 1]; }); });
+    for (std::size_t v = 0; v < n; ++v) nb.offset[v + 1] += nb.offset[v];
+    const std::size_t total = nb.offset[n];
+    nb.index.reserve(total);
+    nb.code.reserve(total);
+    advise_huge_pages(nb.index.data(), total * sizeof(std::uint32_t));
+    advise_huge_pages(nb.code.data(), total);
+    nb.index.resize(total);
+    nb.code.resize(total);
+    parallel_for(0, tasks, [&](std::size_t t) {
+        std::uint32_t cur = std::numeric_limits<std::uint32_t>::max(), k = 0;
+        scan(t, [&](std::uint32_t v, std::uint32_t w, int code) {
+            if (v != cur) cur = v, k = nb.offset[v];
+            nb.index[k] = w;
             nb.code[k] = static_cast<std::uint8_t>(code);
             ++k;
         });
-    }, {.grain = 256});
+    });
+    // Reorder each list farthest offset first (ties by offset code): the synthesizer's branch and
+    // bound stops sooner when the neighbours most likely to disagree with a candidate come first.
+    const int codes = side * side * side;
+    std::vector<int> order(static_cast<std::size_t>(codes));
+    for (int c = 0; c < codes; ++c) order[static_cast<std::size_t>(c)] = c;
+    auto dist2 = [&](int c) {
+        const int dx = c % side - radius, dy = (c / side) % side - radius, dz = c / (side * side) - radius;
+        return dx * dx + dy * dy + dz * dz;
+    };
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist2(a) > dist2(b); });
+    parallel_for(0, n, [&](std::size_t v) {
+        std::uint32_t slot[343];
+        bool present[343] = {};
+        const std::uint32_t a = nb.offset[v], b = nb.offset[v + 1];
+        for (std::uint32_t k = a; k < b; ++k) slot[nb.code[k]] = nb.index[k], present[nb.code[k]] = true;
+        std::uint32_t k = a;
+        for (int c : order)
+            if (present[c]) nb.index[k] = slot[c], nb.code[k] = static_cast<std::uint8_t>(c), ++k;
+    }, {.grain = 1024});
     return nb;
 }
 

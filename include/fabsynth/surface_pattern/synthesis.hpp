@@ -154,7 +154,7 @@ public:
     [[nodiscard]] const exemplar& source() const noexcept { return ex_; }
     [[nodiscard]] const label_space& labels() const noexcept { return labels_; }
     [[nodiscard]] const synthesis_options& options() const noexcept { return opt_; }
-    [[nodiscard]] const neighbourhood& neighbours(int level) const { return nbs_.at(static_cast<std::size_t>(level)); }
+    [[nodiscard]] const shell_neighbourhood& neighbours(int level) const { return nbs_.at(static_cast<std::size_t>(level)); }
 
     /// Initial synthesis (Algorithm 2). `progress(fraction, stage)` is called per level.
     template <progress_callback P = no_progress>
@@ -275,7 +275,7 @@ private:
     std::uint64_t optimize_pass(int level, std::vector<std::uint32_t>& labels, level_energy<C>& en, std::span<const std::uint8_t> active,
                                 std::span<const std::uint8_t> forced, std::uint64_t round, int pass) const {
         const shell_level& l = lv(level);
-        const neighbourhood& nb = nbs_[static_cast<std::size_t>(level)];
+        const shell_neighbourhood& nb = nbs_[static_cast<std::size_t>(level)];
         std::atomic<std::uint64_t> evaluated{0};
         for (const std::vector<std::uint32_t>& all : classes_[static_cast<std::size_t>(level)]) {
             std::vector<std::uint32_t> subset;
@@ -290,6 +290,7 @@ private:
             parallel_for(0, chunks, [&](std::size_t ci) {
                 std::vector<float> exp;
                 std::vector<std::uint32_t> cand;
+                std::vector<std::pair<std::uint32_t, std::uint32_t>> runs;  // (count, label)
                 std::uint64_t count = 0;
                 for (std::size_t i = ci * chunk; i < std::min(list->size(), (ci + 1) * chunk); ++i) {
                     const std::uint32_t v = (*list)[i];
@@ -304,7 +305,17 @@ private:
                     cand.clear();
                     for (std::uint32_t k = nb.offset[v]; k < nb.offset[v + 1]; ++k) cand.push_back(labels[nb.index[k]]);
                     std::sort(cand.begin(), cand.end());
-                    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+                    // distinct labels, the most frequent first: the likely winners tighten the bound early
+                    runs.clear();
+                    for (std::size_t a = 0; a < cand.size();) {
+                        std::size_t b = a;
+                        while (b < cand.size() && cand[b] == cand[a]) ++b;
+                        runs.push_back({static_cast<std::uint32_t>(b - a), cand[a]});
+                        a = b;
+                    }
+                    std::stable_sort(runs.begin(), runs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+                    cand.clear();
+                    for (const auto& r : runs) cand.push_back(r.second);
                     if (cand.size() > static_cast<std::size_t>(opt_.candidates)) cand.resize(static_cast<std::size_t>(opt_.candidates));
                     counter_rng rng(opt_.seed, tag_candidates, round, static_cast<std::uint64_t>(level), static_cast<std::uint64_t>(pass),
                                     static_cast<std::uint64_t>(v));
@@ -469,7 +480,7 @@ private:
     exemplar ex_;
     synthesis_options opt_;
     label_space labels_;
-    std::vector<neighbourhood> nbs_;
+    std::vector<shell_neighbourhood> nbs_;
     std::vector<std::vector<std::vector<std::uint32_t>>> classes_;  // per level, 27 sub-pass classes
     double one_minus_cos_ = 0;  // 1 - cos(cone half-angle)
 };
