@@ -3,6 +3,7 @@
 // characters in a non-terminal stderr; nothing left at the output path after a refused run.
 // Tools run as child processes (stdout and stderr to files, stdin closed).
 #include <catch2/catch.hpp>
+#include <fabsynth/io/image.hpp>
 #include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -41,13 +43,22 @@ std::string quote(const std::string& s) {
     return q + "'";
 }
 
-// Runs TOOL ARGS... with stdin from /dev/null and FABSYNTH_NUM_THREADS=1.
-result run(const std::string& tool, const std::vector<std::string>& args) {
+// Runs TOOL ARGS... with stdin from /dev/null and FABSYNTH_NUM_THREADS=threads.
+result run(const std::string& tool, const std::vector<std::string>& args, int threads = 1) {
     fs::create_directories(work_dir);
     const fs::path out = work_dir / (tool + ".out"), err = work_dir / (tool + ".err");
-    std::string cmd = "FABSYNTH_NUM_THREADS=1 " + quote((bin_dir / tool / tool).string());
-    for (const auto& a : args) cmd += " " + quote(a);
-    cmd += " </dev/null >" + quote(out.string()) + " 2>" + quote(err.string());
+    std::string cmd = "FABSYNTH_NUM_THREADS=";  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on literal + string&&
+    cmd += std::to_string(threads);
+    cmd += ' ';
+    cmd += quote((bin_dir / tool / tool).string());
+    for (const auto& a : args) {
+        cmd += ' ';
+        cmd += quote(a);
+    }
+    cmd += " </dev/null >";
+    cmd += quote(out.string());
+    cmd += " 2>";
+    cmd += quote(err.string());
     const int status = std::system(cmd.c_str());
     result r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -297,6 +308,7 @@ TEST_CASE("no tool overwrites one of its inputs or writes two outputs to one fil
     fs::create_directories(mesh_dir);
     const std::string mesh = (fs::path(mesh_dir) / "solid.stl").string();
     fs::copy_file(data_dir / "meshes/cube_ascii.stl", mesh, fs::copy_options::overwrite_existing);
+    fs::copy_file(data_dir / "meshes/cube_ascii.stl", fs::path(mesh_dir) / "pattern.stl", fs::copy_options::overwrite_existing);
     struct row {
         std::string tool;
         std::vector<std::string> args;
@@ -309,10 +321,87 @@ TEST_CASE("no tool overwrites one of its inputs or writes two outputs to one fil
              {"homogenize", {grid, "--preview", grid}, grid},
              {"foam_fit", {"--pairs", "1:0.25", "--seeds", "1", "--cache", cache, "--csv", cache}, cache},
              {"voxelize", {mesh, "-o", mesh_dir, "-r", "8"}, mesh},
+             {"surface_patterns",
+              {(fs::path(mesh_dir) / "pattern.stl").string(), "--exemplar", (data_dir / "exemplars/spots.png").string(), "--size", "20",
+               "--thickness", "1", "--feature", "4", "--no-structure", "-o", mesh_dir},
+              (fs::path(mesh_dir) / "pattern.stl").string()},
          }) {
         const std::string before = slurp(r.input);
         check_case(r.tool, {"output names an input or another output", r.args, 2, ""});
         CHECK(slurp(r.input) == before);
     }
     CHECK_FALSE(fs::exists(work_dir / "x.stl"));
+}
+
+TEST_CASE("surface_patterns follows the tool convention and writes the same files for 1 and 2 threads", "[cli][surface_patterns]") {
+    const std::string out = (work_dir / "sp_out").string();
+    fs::remove_all(out);
+    const std::string bunny = (data_dir / "meshes/bunny_lowres.obj").string(), mask = (data_dir / "exemplars/hooks.png").string();
+    const std::string nan_obj = write_file("sp_nan.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n");
+    const std::string no_faces = write_file("sp_empty.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    const std::string not_png = write_file("sp_not.png", "this is not a PNG file");
+    fabsynth::io::write_png(work_dir / "sp_full.png", fabsynth::image8(16, 16, 1, 255));
+    fabsynth::io::write_png(work_dir / "sp_empty.png", fabsynth::image8(16, 16, 1, 0));
+    auto args = [&](std::vector<std::string> extra) {
+        std::vector<std::string> a = {bunny, "--exemplar", mask, "--size", "40", "--thickness", "1.5", "--feature", "4", "-r", "48", "--no-structure", "-o", out};
+        for (auto& e : extra) a.push_back(e);
+        return a;
+    };
+    auto with = [&](std::vector<std::string> a, const std::string& key, const std::string& value) {
+        for (std::size_t i = 0; i + 1 < a.size(); ++i)
+            if (a[i] == key) a[i + 1] = value;
+        return a;
+    };
+    auto mesh_is = [&](const std::string& m) {
+        std::vector<std::string> a = args({});
+        a[0] = m;
+        return a;
+    };
+    for (const cli_case& c : std::vector<cli_case>{
+             {"missing mesh", mesh_is((work_dir / "none.obj").string()), 5, "does not exist"},
+             {"NaN vertex", mesh_is(nan_obj), 5, "not finite"},
+             {"mesh without faces", mesh_is(no_faces), 5, "no faces"},
+             {"unreadable exemplar", with(args({}), "--exemplar", not_png), 5, "sp_not.png"},
+             {"exemplar and colour of different sizes", args({"--color", (data_dir / "exemplars/zebra_color.png").string()}), 2, "differ in size"},
+             {"full mask", with(args({}), "--exemplar", (work_dir / "sp_full.png").string()), 2, "full mask"},
+             {"empty mask", with(args({}), "--exemplar", (work_dir / "sp_empty.png").string()), 2, "empty mask"},
+             {"thickness below one voxel", with(args({}), "--thickness", "0.5"), 2, "--thickness"},
+             {"feature zero", with(args({}), "--feature", "0"), 2, "--feature"},
+             {"feature negative", with(args({}), "--feature", "-3"), 2, "--feature"},
+             {"grid too large for memory", with(with(args({"--max-memory", "0.5"}), "-r", "4096"), "--size", "100"), 2, "GiB"},
+             {"structural mode not built", {bunny, "--exemplar", mask, "--size", "40", "--thickness", "1.5", "--feature", "4", "-o", out}, 2, "--no-structure"},
+             {"NaN up", args({"--up", "nan", "0", "1"}), 2, "up"},
+         })
+        check_case("surface_patterns", c);
+    CHECK_FALSE(fs::exists(out));
+    check_common("surface_patterns", with(args({}), "--feature", "0"), 2);
+
+    const result one = run("surface_patterns", args({"--json"}), 1);
+    INFO(one.err);
+    REQUIRE(one.code == 0);
+    const json j = json::parse(one.out);
+    CHECK(j.at("status") == "ok");
+    CHECK(j.at("watertight") == true);
+    std::map<std::string, std::string> first;
+    for (const char* f : {"pattern.stl", "shell.vtk", "solid.vtk", "preview.png"}) first[f] = slurp(fs::path(out) / f);
+    json report = json::parse(slurp(fs::path(out) / "report.json"));
+    CHECK(report.at("levels").size() == 6);
+    CHECK(report.at("pattern_watertight") == true);
+    CHECK(std::abs(report.at("solid_fraction").get<double>() - report.at("exemplar_solid_fraction").get<double>()) < 0.15);
+    CHECK(first["shell.vtk"].find("SCALARS state unsigned_char") != std::string::npos);
+    CHECK(first["solid.vtk"].find("SCALARS solid unsigned_char") != std::string::npos);
+    const result two = run("surface_patterns", args({"--quiet"}), 2);
+    REQUIRE(two.code == 0);
+    CHECK(two.err.empty());
+    for (const auto& [f, bytes] : first) {
+        INFO(f);
+        CHECK(slurp(fs::path(out) / f) == bytes);
+    }
+    // the report differs in its timings only
+    auto without_times = [](json r) {
+        r.erase("timings");
+        for (auto& l : r.at("levels")) l.erase("seconds"), l.erase("candidates_per_second");
+        return r;
+    };
+    CHECK(without_times(json::parse(slurp(fs::path(out) / "report.json"))) == without_times(report));
 }
