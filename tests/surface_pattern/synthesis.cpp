@@ -75,7 +75,7 @@ TEST_CASE("surface shell: pyramid links, area conservation, unit normals, symmet
     }
     // the 5x5x5 neighbourhood against a brute-force scan of level 1
     const sp::shell_level& lv = pyr.levels[1];
-    const sp::neighbourhood nb = sp::build_neighbourhood(lv, 2);
+    const sp::shell_neighbourhood nb = sp::build_neighbourhood(lv, 2);
     std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
     for (std::size_t v = 0; v < lv.size(); ++v)
         for (std::uint32_t k = nb.offset[v]; k < nb.offset[v + 1]; ++k) pairs.insert({static_cast<std::uint32_t>(v), nb.index[k]});
