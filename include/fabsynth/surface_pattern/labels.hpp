@@ -88,6 +88,10 @@ public:
                     r_[k] = glm::cross(b, n);
                     ++k;
                 }
+        for (int t = 0; t < opt.translations; ++t) {
+            shift_x_.push_back(static_cast<double>(t) * width / opt.translations);
+            shift_y_.push_back(static_cast<double>(t) * height / opt.translations);
+        }
         const int R = opt.rotations;
         linear_.resize(static_cast<std::size_t>(plane_count) * static_cast<std::size_t>(R));
         for (int p = 0; p < plane_count; ++p)
@@ -130,8 +134,8 @@ public:
     /// The affine map of a label.
     [[nodiscard]] plane_map map_of(std::uint32_t l) const noexcept {
         plane_map m = linear_[static_cast<std::size_t>(plane(l) * opt_.rotations + rotation(l))];
-        m.t[0] = static_cast<double>(tx(l)) * width_ / opt_.translations;  // exact for power-of-two T
-        m.t[1] = static_cast<double>(ty(l)) * height_ / opt_.translations;
+        m.t[0] = shift_x_[static_cast<std::size_t>(tx(l))];
+        m.t[1] = shift_y_[static_cast<std::size_t>(ty(l))];
         return m;
     }
     /// M(x, psi, tau): exemplar pixel coordinates of the point x (mm).
@@ -174,7 +178,8 @@ private:
     int width_ = 1, height_ = 1;
     label_options opt_{};
     std::array<vec3, plane_count> normal_{}, r_{}, b_{};
-    std::vector<plane_map> linear_;  // per (plane, rotation), no translation
+    std::vector<plane_map> linear_;         // per (plane, rotation), no translation
+    std::vector<double> shift_x_, shift_y_;  // translation i -> i W / T, i H / T pixels
 };
 
 }  // namespace fabsynth::surface_pattern
