@@ -237,6 +237,23 @@ TEST_CASE("constrained resynthesis: forced voxels end solid, nothing outside the
     CHECK(r.solid == syn.states(0, r.labels[0]));  // every forced voxel got a solid-mapping label
 }
 
+TEST_CASE("surface shell: open, non-manifold and inward-oriented meshes follow the documented behaviour", "[surface_pattern][synthesis]") {
+    // open (a plate) and non-manifold (three fins on one edge): voxelized like any surface
+    triangle_mesh fins;
+    fins.vertices = {{0, 0, 0}, {0, 0, 10}, {10, 0, 5}, {-5, 8, 5}, {-5, -8, 5}};
+    fins.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+    const sp::surface_shell f = sp::make_shell(fins, {.size_mm = 20, .resolution = 32});
+    CHECK(f.size() > 100);
+    for (const vec3& n : f.normals) CHECK(std::abs(glm::length(n) - 1) < 1e-9);
+    // an inward-oriented closed mesh gives the same outward normals as the outward one
+    triangle_mesh bunny = io::read_mesh(std::string(FABSYNTH_DATA_DIR) + "/meshes/bunny_lowres.obj");
+    const sp::surface_shell out = sp::make_shell(bunny, {.size_mm = 30, .resolution = 32});
+    for (auto& t : bunny.faces) std::swap(t[1], t[2]);
+    const sp::surface_shell in = sp::make_shell(bunny, {.size_mm = 30, .resolution = 32});
+    REQUIRE(in.voxels == out.voxels);
+    for (std::size_t v = 0; v < in.size(); ++v) CHECK(glm::length(in.normals[v] - out.normals[v]) < 1e-12);
+}
+
 TEST_CASE("surface shell and synthesizer refuse bad input with invalid_input", "[surface_pattern][synthesis]") {
     triangle_mesh m = plate(10);
     CHECK_THROWS_AS(sp::make_shell(triangle_mesh{}, {.size_mm = 10}), invalid_input);

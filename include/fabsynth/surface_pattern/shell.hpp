@@ -26,6 +26,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
@@ -33,6 +34,7 @@
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/mesh.hpp"
+#include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/voxel/grid.hpp"
 #include "fabsynth/voxel/pyramid.hpp"
 #include "fabsynth/voxel/voxelize.hpp"
@@ -69,7 +71,8 @@ inline constexpr double shell_bytes_per_voxel = 640;
 
 /// Scales `mesh` to opt.size_mm and voxelizes its surface (see the file comment). Any triangle soup
 /// is accepted: open and non-manifold meshes voxelize like closed ones (their normals then follow the
-/// local face orientation). Throws invalid_input for an empty mesh, non-finite vertices, bad face
+/// local face orientation, and thickening goes against them); a closed mesh with negative signed
+/// volume (oriented inward) is turned outward first. Throws invalid_input for an empty mesh, non-finite vertices, bad face
 /// indices, a mesh without extent, size or resolution out of range, a shell estimated above
 /// opt.max_memory_bytes (naming the estimate), or a shell with no voxel.
 [[nodiscard]] inline surface_shell make_shell(const triangle_mesh& mesh, const shell_options& opt) {
@@ -83,6 +86,9 @@ inline constexpr double shell_bytes_per_voxel = 640;
     surface_shell s;
     s.mesh = mesh;
     fit_to_size(s.mesh, opt.size_mm);
+    // A closed mesh oriented inward would thicken outward: turn it outward (open meshes keep theirs).
+    if (is_watertight(s.mesh) && signed_volume(s.mesh) < 0)
+        for (auto& f : s.mesh.faces) std::swap(f[1], f[2]);
     s.geometry = fit_grid(bounding_box(s.mesh), opt.resolution, opt.padding);
     const double estimate = estimated_shell_voxels(surface_area(s.mesh), s.geometry.spacing.x) * shell_bytes_per_voxel;
     if (estimate > opt.max_memory_bytes) {
