@@ -512,6 +512,34 @@ template <neighbourhood C = connectivity::c26>
     return out;
 }
 
+/// Joins the voxels that touch only along an edge or a corner the mesh does not follow (26-
+/// neighbours that are not mesh_connectivity neighbours: offsets with mixed signs, e.g. (1, -1, 0)),
+/// so that the mesh of the set has as many pieces as the set has 26-connected components: for each
+/// such contact of v and v + o, the voxel v + max(o, 0) is added (6-adjacent to both). Only called
+/// when the two counts differ; returns the number of voxels added.
+inline std::size_t join_diagonal_contacts(voxel_set& s) {
+    validate(s, "join_diagonal_contacts");
+    const block_mask mask(s.geometry, s.voxels);
+    std::vector<ivec3> extra;
+    for (const ivec3& v : s.voxels)
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const bool pos = dx > 0 || dy > 0 || dz > 0, neg = dx < 0 || dy < 0 || dz < 0;
+                    if (!(pos && neg)) continue;  // mesh_connectivity joins same-sign offsets
+                    const ivec3 w = v + ivec3(dx, dy, dz);
+                    if (!s.geometry.contains(w) || !mask.contains(w)) continue;
+                    const ivec3 mid = v + ivec3(std::max(dx, 0), std::max(dy, 0), std::max(dz, 0));
+                    if (!mask.contains(mid)) extra.push_back(mid);
+                }
+    if (extra.empty()) return 0;
+    const std::size_t before = s.voxels.size();
+    std::vector<ivec3> all = s.voxels;
+    all.insert(all.end(), extra.begin(), extra.end());
+    s = make_voxel_set(s.geometry, std::move(all));
+    return s.voxels.size() - before;
+}
+
 // ---------------------------------------------------------------------------------------------
 // 4. meshing
 
