@@ -586,3 +586,21 @@ TEST_CASE("fabrication is deterministic for 1 and 2 threads; bad voxel sets thro
     CHECK(is_watertight(corner));
     CHECK(analyze_topology(corner).components == 2);
 }
+
+TEST_CASE("join_diagonal_contacts: voxels touching along an edge the mesh does not follow become one printed piece",
+          "[surface_pattern][fabricate]") {
+    grid_geometry g;
+    g.dims = {8, 8, 8};
+    g.spacing = vec3(1.0);
+    for (const ivec3 o : {ivec3(1, -1, 0), ivec3(1, 1, -1), ivec3(-1, 1, 1)}) {
+        INFO(o.x << " " << o.y << " " << o.z);
+        fabsynth::surface_pattern::voxel_set s = fabsynth::surface_pattern::make_voxel_set(g, {ivec3(3, 3, 3), ivec3(3, 3, 3) + o});
+        CHECK(fabsynth::surface_pattern::set_components(s).count == 1);
+        CHECK(fabsynth::surface_pattern::set_components(s, fabsynth::surface_pattern::mesh_connectivity{}).count == 2);
+        CHECK(fabsynth::surface_pattern::join_diagonal_contacts(s) == 1);
+        CHECK(fabsynth::surface_pattern::set_components(s, fabsynth::surface_pattern::mesh_connectivity{}).count == 1);
+        CHECK(analyze_topology(fabsynth::surface_pattern::mesh_voxels(s, 0)).is_watertight());
+    }
+    fabsynth::surface_pattern::voxel_set joined = fabsynth::surface_pattern::make_voxel_set(g, {ivec3(3, 3, 3), ivec3(4, 4, 3)});  // along a Freudenthal diagonal: nothing to do
+    CHECK(fabsynth::surface_pattern::join_diagonal_contacts(joined) == 0);
+}
