@@ -6,10 +6,12 @@
 /// (surface_pattern/exemplar.hpp), labels and the plane mapping (surface_pattern/labels.hpp), the
 /// synthesis energy (surface_pattern/energy.hpp), the optimizer and constrained resynthesis
 /// (surface_pattern/synthesis.hpp) and fabrication: specks, inward thickening, meshing
-/// (surface_pattern/fabricate.hpp).
+/// (surface_pattern/fabricate.hpp), and the beam-wedge FEM model that scores abstract edges for the
+/// reinforcement of §5.2.1 (surface_pattern/beam_model.hpp).
 #include "fabsynth/surface_pattern/shell.hpp"
 #include "fabsynth/surface_pattern/exemplar.hpp"
 #include "fabsynth/surface_pattern/labels.hpp"
 #include "fabsynth/surface_pattern/energy.hpp"
 #include "fabsynth/surface_pattern/synthesis.hpp"
 #include "fabsynth/surface_pattern/fabricate.hpp"
+#include "fabsynth/surface_pattern/beam_model.hpp"
