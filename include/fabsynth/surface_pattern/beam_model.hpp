@@ -1,0 +1,693 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file beam_model.hpp  The simplified beam-wedge model of structurally-sound-patterns.md §5.2.1
+/// ("Score Based on Force Profile", Figure 8): every abstract-graph vertex becomes a fan of wedge
+/// elements in its tangent plane, every abstract edge a hexahedral beam joining the wedge fans of
+/// its two endpoints; empty edges are softened to rho_min; the score of an edge is
+/// |s1| + |s2| + |s3| of its beam's stress. Solves go through fem::solve_context, so changing
+/// edge states only rescales element matrices and reuses the one symbolic analysis.
+///
+/// Input is plain data (no dependency on the synthesizer): vertices (position [mm], outward
+/// normal) and edges (a, b, solid). Usage:
+///   std::vector<fabsynth::surface_pattern::beam_vertex> v = ...;  // abstract vertices: shell voxel centres
+///   std::vector<fabsynth::surface_pattern::beam_edge> e = ...;    // abstract edges with rho(e) = solid
+///   fabsynth::surface_pattern::beam_model model(v, e, {.thickness_mm = 1.5});
+///   std::vector<double> score = model.solve();                   // MPa per edge
+///   model.set_edge_solid(k, true);                               // rho of one beam: 1
+///   score = model.solve();                                       // no new analysis
+///
+/// Geometry (all decisions of this file; the paper gives none of these details):
+/// - Frame: the abstract vertex p lies on the outer surface; the model is extruded inward, from p
+///   to p - thickness n (as the printed shell, fabricate.hpp's thicken_inward). Every vertex has
+///   a right-handed tangent frame (t1, t2, n).
+/// - Beam width w: beam_options::beam_width_mm, or by default 0.2 x the median edge length,
+///   capped at 0.6 x the shortest edge (so no hub must exceed its edges). Every beam has the
+///   cross-section w x thickness.
+/// - Directions: each neighbour (other endpoint of an incident edge) is projected into the tangent
+///   plane and sorted by angle. A neighbour along the normal (projection < 1e-9 of its distance)
+///   gets the middle of the largest angular gap of the others.
+/// - Hub radius r: each incident edge owns one polygon side, a chord of width w perpendicular to
+///   its direction at distance r from p, subtending 2 beta, beta = atan(w / 2r). r is chosen so
+///   that sides take at most q = 75% of the smallest angular gap g between directions and
+///   beta <= 45 deg: r = (w/2) / tan(min(q g / 2, 45 deg)) >= w/2. r is capped at 0.35 x the
+///   shortest incident edge (so every beam keeps >= 30% of its edge length). When the cap binds,
+///   the directions are spread apart to the separation s = 2 beta(r_cap) / q by the least-squares
+///   closest angles with those gaps (isotonic regression, pool-adjacent-violators, cut at the
+///   largest gap); if that does not close around the circle, or k s > 2 pi, the directions become
+///   evenly spaced (phase = circular mean of the sorted angles), with r = (w/2) / tan(q pi / k) in
+///   the second case; if that r exceeds 0.45 x the shortest incident edge, invalid_input (too many
+///   neighbours for the beam width). A beam whose side is rotated by the spreading is simply skewed.
+/// - Polygon: corners L_j = p + r d_j - (w/2) n x d_j and R_j = p + r d_j + (w/2) n x d_j for each
+///   direction d_j, and in each gap between sides extra corners on the same circle (radius
+///   sqrt(r^2 + w^2/4)), evenly spaced so that no step exceeds 60 deg. A vertex with no edge gets a
+///   regular hexagon of circumradius w/2; one edge gives one side plus ~5 gap corners. The polygon
+///   is fan-triangulated from p, every triangle extruded by the thickness along -n: one wedge6 per
+///   polygon step (bottom = inner face, counter-clockwise about n), all with positive Jacobians.
+/// - Beams: the hex8 of edge (a, b) shares the four nodes (outer and inner L, R) of a's side for
+///   it and the four of b's side, in the order (L_a, R_b, L_b, R_a) about n; if its Jacobian is
+///   negative at all corners the faces are swapped; if it changes sign (the frames fold between a
+///   and b: opposite normals, too sharp curvature) invalid_input names the edge.
+/// - Stiffness: wedges rho = 1, solid beams 1, empty beams rho_min (the paper's K_e = rho(e) K_e).
+/// - Supports: every node whose height along -gravity lies in the lowest support_fraction of the
+///   nodes' extent (ties within 1e-9 of it included) is fixed in x, y, z. A force_profile may
+///   instead list fixed vertices (all nodes of their hubs fixed). Each connected part of the graph
+///   (empty edges count: rho_min keeps parts attached) needs a fixed node, else no_solution names
+///   its vertices; a part held at a single node or line throws solver_error from the FEM support
+///   check (rigid-body mode), also at construction.
+/// - Loads: load_per_vertex_n [N] along gravity at every vertex ("arbitrary but constant"), or the
+///   force_profile's vector loads [N], spread over the vertex's hub nodes by lumped wedge volume
+///   (each wedge gives 1/6 of its volume to each node), so the resultant acts at the hub centroid.
+/// - Score: |s1| + |s2| + |s3| [MPa = N/mm^2] of the beam's stress, by default averaged over its
+///   eight Gauss points (the centroid alone would miss bending: bending stress vanishes on the beam
+///   axis). As in the paper (sigma_e = B E u_e), the stress is C eps without rho, i.e. what the
+///   edge would carry if it were solid under the current deformation; carried_stress = true gives
+///   rho C eps instead. Solid and empty edges are scored alike.
+/// - rho_min = 1e-4: the paper gives no value. An empty beam must carry a negligible share, and
+///   not only axially: next to a solid beam of width w it forms a couple over the lever d whose
+///   stiffness relative to the solid beam's bending is ~12 rho (d / w)^2, ~0.3 at rho = 1e-3 and
+///   d / w = 5 (a ladder panel then still sends 7% of its load through the "empty" side; the test
+///   measures it), ~0.03 at 1e-4. Smaller values only worsen the conditioning (contrast 1 / rho for
+///   LDL^T and CG) while rho_min > 0 keeps solid parts that no solid edge joins yet attached, so
+///   the loop can score the empty edges between them.
+/// - Accuracy: each beam is one hex8 (full integration) and each hub one wedge layer, so a beam
+///   carries axial load exactly (tested against statics) but its bending is stiffened by shear
+///   locking, and a beam next to a fixed hub also feels that hub's clamped Poisson contraction.
+///   The scores rank edges; they are not a converged stress analysis of the printed pattern.
+///   Checked once by hand against CalculiX (ccx on fem::write_inp(mesh(), load_case()) of the
+///   ladder test with one empty beam): displacements agree to 0.8% of the largest (not a test).
+/// Cost: O(V + E) elements (about 2k wedges per vertex of degree k, one hex per edge), 3 DOFs per
+/// node; the solve is fem::solve_context's with default_beam_solver() (direct, refactorized).
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <span>
+#include <string>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/parallel.hpp"
+#include "fabsynth/core/types.hpp"
+#include "fabsynth/core/union_find.hpp"
+#include "fabsynth/fem/boundary.hpp"
+#include "fabsynth/fem/material.hpp"
+#include "fabsynth/fem/mesh.hpp"
+#include "fabsynth/fem/solve_context.hpp"
+#include "fabsynth/fem/stress.hpp"
+
+namespace fabsynth::surface_pattern {
+
+/// An abstract vertex: position [mm] (a shell voxel centre, on the outer surface) and its
+/// outward normal (normalized here; must be finite and non-zero).
+struct beam_vertex {
+    vec3 position{0.0};
+    vec3 normal{0.0, 0.0, 1.0};
+};
+/// An abstract edge between vertices a and b; solid: rho = 1, else rho_min.
+struct beam_edge {
+    std::uint32_t a = 0, b = 0;
+    bool solid = true;
+};
+
+/// Where the beam stress of an edge is sampled for its score.
+enum class beam_stress_sample : std::uint8_t {
+    gauss_mean,  ///< mean of |s1|+|s2|+|s3| over the 8 Gauss points (default; sees bending)
+    gauss_max,   ///< maximum over the 8 Gauss points
+    centre,      ///< at the beam centroid (axial stress and shear only; bending is zero there)
+};
+
+/// The solver a beam model uses unless told otherwise: a direct factorization (CHOLMOD when the
+/// build has it, else LDL^T), refactorized numerically after state changes (reuse_preconditioner
+/// off). The model is a single layer of elements, so its factor has 2D-like fill: on the
+/// 1000-vertex sphere (72k free DOFs) CHOLMOD factorizes in ~0.6 s, while AMG-CG (what
+/// solver_method::automatic picks for solid meshes above 20000 DOFs) needs ~160 iterations and
+/// ~2.5 s, and CG on the previous factor needs ~20 iterations even for one changed edge, which
+/// costs as much as refactorizing. The symbolic analysis is never repeated either way.
+[[nodiscard]] inline fem::solve_options default_beam_solver() {
+    fem::solve_options o;
+    o.method = fem::method_available(fem::solver_method::cholmod) ? fem::solver_method::cholmod : fem::solver_method::ldlt;
+    o.reuse_preconditioner = false;
+    return o;
+}
+
+struct beam_options {
+    double thickness_mm = 1.0;   ///< shell thickness: extrusion along -normal (inward) [mm], > 0
+    double beam_width_mm = 0;    ///< in-plane width of the beams [mm]; 0 = 0.2 x median edge length, <= 0.6 x shortest
+    double rho_min = 1e-4;       ///< stiffness scale of empty edges, in (0, 1] (the paper gives none; see the file comment)
+    fem::isotropic_material material = fem::isotropic_material::abs();
+    vec3 gravity{0.0, 0.0, -1.0};   ///< load direction of the default force profile (normalized), non-zero
+    double support_fraction = 0.10; ///< nodes in this lowest fraction of the extent along gravity are fixed, in [0, 1]
+    double load_per_vertex_n = 1.0; ///< force per abstract vertex [N] ("arbitrary but constant", §5.2.1)
+    beam_stress_sample sample = beam_stress_sample::gauss_mean;
+    bool carried_stress = false;    ///< false: C eps (paper); true: rho C eps, the stress the beam really carries
+    fem::solve_options solver = default_beam_solver();  ///< passed to fem::solve_context (method, reuse, tolerances)
+};
+
+/// A user force profile (e.g. a pinch grip, Stava et al. 2012): fixed_vertices have every node of
+/// their hub fixed in x, y, z (empty = the default supports of beam_options); loads are forces [N]
+/// on vertices, spread over their hubs like the gravity loads (empty = the default gravity loads).
+struct force_profile {
+    std::vector<std::uint32_t> fixed_vertices;
+    std::vector<std::pair<std::uint32_t, vec3>> loads;
+};
+
+/// Sizes and work of a beam_model (times: wall clock seconds).
+struct beam_statistics {
+    std::size_t vertices = 0, edges = 0;
+    std::size_t nodes = 0, wedges = 0, hexes = 0, dofs = 0, free_dofs = 0, fixed_nodes = 0;
+    double beam_width_mm = 0;
+    std::string method;  ///< solver method of the context (ldlt, amg, ...)
+    int analyses = 0, factorizations = 0, solves = 0, reused_solves = 0;
+    double build_seconds = 0;       ///< constructor: geometry, checks, assembly and analysis
+    double last_solve_seconds = 0;  ///< last solve(): FEM solve and stress scores
+    double total_solve_seconds = 0;
+};
+
+namespace detail {
+
+/// det J of element E at its nodes and centroid: (min, max).
+template <class E>
+[[nodiscard]] std::pair<double, double> jacobian_range(const typename E::nodes_t& X) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    auto at = [&](const vec3& xi) {
+        const auto d = E::shape_derivatives(xi);
+        Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+        for (int a = 0; a < E::num_nodes; ++a)
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) J(i, j) += d(i, a) * X[static_cast<std::size_t>(a)][j];
+        const double det = J.determinant();
+        lo = std::min(lo, det), hi = std::max(hi, det);
+    };
+    for (int a = 0; a < E::num_nodes; ++a) at(fem::node_natural_coordinates<E>(a));
+    at(E::centroid());
+    return {lo, hi};
+}
+
+/// Least-squares angles y (y[i+1] - y[i] >= s) closest to sorted x: isotonic regression of
+/// x[i] - i s by pool-adjacent-violators, then y[i] = z[i] + i s.
+[[nodiscard]] inline std::vector<double> spread_angles(const std::vector<double>& x, double s) {
+    struct block {
+        double sum;
+        std::size_t count;
+    };
+    std::vector<block> blocks;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        blocks.push_back({x[i] - static_cast<double>(i) * s, 1});
+        while (blocks.size() > 1) {
+            const block& b = blocks.back();
+            const block& a = blocks[blocks.size() - 2];
+            if (a.sum / static_cast<double>(a.count) <= b.sum / static_cast<double>(b.count)) break;
+            const block m{a.sum + b.sum, a.count + b.count};
+            blocks.pop_back();
+            blocks.back() = m;
+        }
+    }
+    std::vector<double> y;
+    for (const block& b : blocks)
+        for (std::size_t c = 0; c < b.count; ++c) y.push_back(b.sum / static_cast<double>(b.count) + static_cast<double>(y.size()) * s);
+    return y;
+}
+
+}  // namespace detail
+
+class beam_model {
+public:
+    /// Builds the model and analyses it once (fem::solve_context). Throws invalid_input for bad
+    /// input (edge index out of range, a == b, duplicate edge, coincident endpoints, non-finite
+    /// positions, zero normal, bad options or force profile, too many neighbours for the beam
+    /// width, folded beams), no_solution for a part of the graph without supports, solver_error
+    /// for a part the supports cannot hold.
+    beam_model(std::span<const beam_vertex> vertices, std::span<const beam_edge> edges, const beam_options& opt = {},
+               const std::optional<force_profile>& profile = std::nullopt)
+        : opt_(opt), vertices_(vertices.begin(), vertices.end()), edges_(edges.begin(), edges.end()) {
+        const auto t0 = clock::now();
+        validate_input(profile);
+        choose_width();
+        build_hubs();
+        build_beams();
+        mesh_.sections.push_back({opt_.material, 0.0});
+        build_supports_and_loads(profile);
+        try {
+            ctx_ = std::make_unique<fem::solve_context>(std::move(mesh_), supports_, opt_.solver);  // mesh_ is spent
+        } catch (const solver_error& e) {
+            throw solver_error(std::string("beam_model: the supports cannot hold the beam model: ") + e.what());
+        }
+        stats_.build_seconds = seconds_since(t0);
+    }
+
+    [[nodiscard]] std::size_t num_vertices() const noexcept { return vertices_.size(); }
+    [[nodiscard]] std::size_t num_edges() const noexcept { return edges_.size(); }
+    [[nodiscard]] bool edge_solid(std::size_t edge) const { return edges_.at(edge).solid; }
+    [[nodiscard]] double beam_width() const noexcept { return width_; }
+    /// Hub radius r of vertex i (distance from p to each side) [mm].
+    [[nodiscard]] double hub_radius(std::size_t i) const { return hub_radius_.at(i); }
+    /// Index in mesh() of the hex8 beam of an edge.
+    [[nodiscard]] std::size_t edge_element(std::size_t edge) const {
+        check_edge(edge, "edge_element");
+        return first_hex_ + edge;
+    }
+    /// Node indices [first, last) in mesh() of vertex i's hub (centre outer, centre inner, then
+    /// each polygon corner outer, inner).
+    [[nodiscard]] std::pair<std::uint32_t, std::uint32_t> vertex_nodes(std::size_t i) const {
+        return {hub_begin_.at(i), hub_begin_.at(i + 1)};
+    }
+    /// The FEM model with the current stiffness scales (for VTK output or a CalculiX deck).
+    [[nodiscard]] const fem::mesh& mesh() const noexcept { return ctx_->model(); }
+    /// The fixed DOFs and the nodal forces of the force profile.
+    [[nodiscard]] const fem::load_case& supports() const noexcept { return supports_; }
+    [[nodiscard]] const fem::load_case& loads() const noexcept { return loads_; }
+    /// Supports and loads in one case (e.g. for fem::write_inp).
+    [[nodiscard]] fem::load_case load_case() const {
+        fem::load_case lc = loads_;
+        lc.fixed = supports_.fixed;
+        return lc;
+    }
+    [[nodiscard]] const fem::solve_context& context() const noexcept { return *ctx_; }
+    /// Result of the last solve() (displacements, reactions); empty before the first.
+    [[nodiscard]] const fem::static_result& last_result() const noexcept { return last_; }
+
+    /// Marks an edge solid (rho = 1) or empty (rho_min): changes its beam's stiffness scale only.
+    void set_edge_solid(std::size_t edge, bool solid) { set_edges_solid(std::span<const std::size_t>(&edge, 1), solid); }
+    /// Same for several edges at once (one pass over the stored matrix).
+    void set_edges_solid(std::span<const std::size_t> edge_list, bool solid) {
+        std::vector<std::size_t> elements;
+        std::vector<double> scales;
+        for (std::size_t e : edge_list) {
+            check_edge(e, "set_edge_solid");
+            if (edges_[e].solid == solid) continue;
+            edges_[e].solid = solid;
+            elements.push_back(first_hex_ + e);
+            scales.push_back(solid ? 1.0 : opt_.rho_min);
+        }
+        ctx_->set_stiffness_scales(elements, scales);
+    }
+
+    /// Solves for the current edge states and returns the score |s1| + |s2| + |s3| [MPa] of every
+    /// edge (edge order). Reuses the context's analysis (and its factorization where CG on it
+    /// converges fast). Throws solver_error on numerical failure.
+    std::vector<double> solve() {
+        const auto t0 = clock::now();
+        last_ = ctx_->solve(loads_);
+        const fem::mesh& m = ctx_->model();
+        const fem::stress_options so{.apply_stiffness_scale = opt_.carried_stress};
+        std::vector<double> score(edges_.size());
+        parallel_for(0, edges_.size(), [&](std::size_t e) {
+            const std::size_t el = first_hex_ + e;
+            if (opt_.sample == beam_stress_sample::centre) {
+                score[e] = fem::principal_stress_score(fem::element_stress(m, last_, el, fem::hex8::centroid(), so));
+                return;
+            }
+            double sum = 0, mx = 0;
+            for (const vec3& xi : fem::hex8::stress_points()) {
+                const double s = fem::principal_stress_score(fem::element_stress(m, last_, el, xi, so));
+                sum += s, mx = std::max(mx, s);
+            }
+            score[e] = opt_.sample == beam_stress_sample::gauss_max ? mx : sum / static_cast<double>(fem::hex8::stress_points().size());
+        }, {.grain = 64});
+        stats_.last_solve_seconds = seconds_since(t0);
+        stats_.total_solve_seconds += stats_.last_solve_seconds;
+        return score;
+    }
+
+    [[nodiscard]] beam_statistics statistics() const {
+        beam_statistics s = stats_;
+        const fem::solve_statistics& c = ctx_->statistics();
+        s.vertices = vertices_.size(), s.edges = edges_.size();
+        s.nodes = ctx_->model().nodes.size(), s.hexes = edges_.size(), s.wedges = first_hex_;
+        s.dofs = ctx_->dofs().total, s.free_dofs = c.free_dofs;
+        s.fixed_nodes = c.fixed_dofs / 3;
+        s.beam_width_mm = width_;
+        s.method = c.method;
+        s.analyses = c.analyses, s.factorizations = c.factorizations, s.solves = c.solves, s.reused_solves = c.reused_solves;
+        return s;
+    }
+
+private:
+    using clock = std::chrono::steady_clock;
+    static double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
+
+    /// Per incident edge of a vertex: outer L, outer R, inner L, inner R node of its side.
+    using side_nodes = std::array<std::uint32_t, 4>;
+
+    void check_edge(std::size_t e, const char* what) const {
+        if (e >= edges_.size())
+            throw invalid_input(std::string("beam_model::") + what + ": edge index " + std::to_string(e) + " is out of range (" +
+                                std::to_string(edges_.size()) + " edges)");
+    }
+
+    static std::string vstr(const vec3& v) {
+        std::string s = "(";  // appended piecewise: GCC 12 warns (-Wrestrict) on "(" + to_string(...)
+        s.append(std::to_string(v.x)).append(", ").append(std::to_string(v.y)).append(", ").append(std::to_string(v.z)).append(")");
+        return s;
+    }
+
+    void validate_input(const std::optional<force_profile>& profile) {
+        const auto finite_positive = [](double v) { return std::isfinite(v) && v > 0; };
+        if (!finite_positive(opt_.thickness_mm))
+            throw invalid_input("beam_model: thickness_mm must be finite and > 0, got " + std::to_string(opt_.thickness_mm));
+        if (!(std::isfinite(opt_.beam_width_mm) && opt_.beam_width_mm >= 0))
+            throw invalid_input("beam_model: beam_width_mm must be finite and >= 0 (0 = default), got " + std::to_string(opt_.beam_width_mm));
+        if (!(finite_positive(opt_.rho_min) && opt_.rho_min <= 1))
+            throw invalid_input("beam_model: rho_min must lie in (0, 1], got " + std::to_string(opt_.rho_min));
+        opt_.material.validate();
+        if (!all_finite(opt_.gravity) || !(glm::length(opt_.gravity) > 0))
+            throw invalid_input("beam_model: gravity must be a finite non-zero direction, got " + vstr(opt_.gravity));
+        if (!(std::isfinite(opt_.support_fraction) && opt_.support_fraction >= 0 && opt_.support_fraction <= 1))
+            throw invalid_input("beam_model: support_fraction must lie in [0, 1], got " + std::to_string(opt_.support_fraction));
+        if (!std::isfinite(opt_.load_per_vertex_n))
+            throw invalid_input("beam_model: load_per_vertex_n must be finite, got " + std::to_string(opt_.load_per_vertex_n));
+        if (vertices_.size() >= (std::size_t{1} << 26)) throw invalid_input("beam_model: too many vertices");
+        if (edges_.size() >= (std::size_t{1} << 28)) throw invalid_input("beam_model: too many edges");
+        for (std::size_t i = 0; i < vertices_.size(); ++i) {
+            beam_vertex& v = vertices_[i];
+            if (!all_finite(v.position)) throw invalid_input("beam_model: vertex " + std::to_string(i) + " has a non-finite position");
+            const double len = all_finite(v.normal) ? glm::length(v.normal) : 0.0;
+            if (!(len > 1e-12 && std::isfinite(len)))
+                throw invalid_input("beam_model: vertex " + std::to_string(i) + " has a zero or non-finite normal " + vstr(v.normal));
+            v.normal /= len;
+        }
+        std::vector<std::pair<std::uint64_t, std::size_t>> keys;
+        keys.reserve(edges_.size());
+        for (std::size_t e = 0; e < edges_.size(); ++e) {
+            const beam_edge& E = edges_[e];
+            const std::string name = "beam_model: edge " + std::to_string(e) + " (" + std::to_string(E.a) + ", " + std::to_string(E.b) + ")";
+            if (E.a >= vertices_.size() || E.b >= vertices_.size())
+                throw invalid_input(name + " references a vertex out of range (" + std::to_string(vertices_.size()) + " vertices)");
+            if (E.a == E.b) throw invalid_input(name + " joins a vertex to itself");
+            const vec3 d = vertices_[E.b].position - vertices_[E.a].position;
+            const double scale = std::max({1.0, glm::length(vertices_[E.a].position), glm::length(vertices_[E.b].position)});
+            if (!(glm::length(d) > 1e-9 * scale)) throw invalid_input(name + " joins two vertices at the same position");
+            keys.emplace_back((std::uint64_t{std::min(E.a, E.b)} << 32) | std::max(E.a, E.b), e);
+        }
+        std::sort(keys.begin(), keys.end());
+        for (std::size_t i = 1; i < keys.size(); ++i)
+            if (keys[i].first == keys[i - 1].first)
+                throw invalid_input("beam_model: edge " + std::to_string(keys[i].second) + " duplicates edge " + std::to_string(keys[i - 1].second));
+        if (profile) {
+            for (std::uint32_t v : profile->fixed_vertices)
+                if (v >= vertices_.size())
+                    throw invalid_input("beam_model: force profile fixes vertex " + std::to_string(v) + ", out of range (" +
+                                        std::to_string(vertices_.size()) + " vertices)");
+            for (const auto& [v, f] : profile->loads) {
+                if (v >= vertices_.size())
+                    throw invalid_input("beam_model: force profile loads vertex " + std::to_string(v) + ", out of range (" +
+                                        std::to_string(vertices_.size()) + " vertices)");
+                if (!all_finite(f)) throw invalid_input("beam_model: force profile load on vertex " + std::to_string(v) + " is not finite");
+            }
+        }
+    }
+
+    void choose_width() {
+        if (opt_.beam_width_mm > 0) {
+            width_ = opt_.beam_width_mm;
+            return;
+        }
+        if (edges_.empty()) {
+            width_ = opt_.thickness_mm;
+            return;
+        }
+        std::vector<double> len;
+        len.reserve(edges_.size());
+        for (const beam_edge& e : edges_) len.push_back(glm::length(vertices_[e.b].position - vertices_[e.a].position));
+        std::sort(len.begin(), len.end());
+        const std::size_t n = len.size();
+        const double median = n % 2 ? len[n / 2] : 0.5 * (len[n / 2 - 1] + len[n / 2]);
+        width_ = std::min(0.2 * median, 0.6 * len.front());
+    }
+
+    /// Incident edges of every vertex (CSR, by edge index) and the hub of each vertex.
+    void build_hubs() {
+        const std::size_t nv = vertices_.size();
+        std::vector<std::uint32_t> start(nv + 1, 0);
+        for (const beam_edge& e : edges_) ++start[e.a + 1], ++start[e.b + 1];
+        for (std::size_t i = 0; i < nv; ++i) start[i + 1] += start[i];
+        std::vector<std::uint32_t> incident(start.back()), fill(start.begin(), start.end() - 1);
+        for (std::size_t e = 0; e < edges_.size(); ++e)
+            incident[fill[edges_[e].a]++] = static_cast<std::uint32_t>(e), incident[fill[edges_[e].b]++] = static_cast<std::uint32_t>(e);
+        sides_.assign(edges_.size(), {});
+        hub_radius_.assign(nv, 0.0);
+        hub_begin_.assign(nv + 1, 0);
+        for (std::size_t i = 0; i < nv; ++i) {
+            hub_begin_[i] = static_cast<std::uint32_t>(mesh_.nodes.size());
+            build_hub(i, std::span<const std::uint32_t>(incident.data() + start[i], start[i + 1] - start[i]));
+        }
+        hub_begin_[nv] = static_cast<std::uint32_t>(mesh_.nodes.size());
+        first_hex_ = mesh_.elements.size();
+    }
+
+    void build_hub(std::size_t i, std::span<const std::uint32_t> inc) {
+        constexpr double pi = std::numbers::pi, two_pi = 2 * std::numbers::pi;
+        constexpr double q = 0.75;                 // sides take at most 75% of the smallest gap
+        constexpr double max_step = pi / 3;        // largest angular step of the polygon
+        const beam_vertex& V = vertices_[i];
+        const vec3 n = V.normal, p = V.position;
+        const vec3 ax = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z) ? vec3(1, 0, 0)
+                        : std::abs(n.y) <= std::abs(n.z)                                   ? vec3(0, 1, 0)
+                                                                                            : vec3(0, 0, 1);
+        const vec3 t1 = glm::normalize(glm::cross(n, ax)), t2 = glm::cross(n, t1);
+        const std::size_t k = inc.size();
+        const double hw = 0.5 * width_;
+
+        // Directions: angle of each incident edge's neighbour in the tangent plane.
+        double shortest = std::numeric_limits<double>::infinity();
+        std::vector<std::pair<double, std::uint32_t>> dir;  // (angle, edge), undefined angles = NaN
+        std::vector<std::uint32_t> undefined;
+        for (std::uint32_t e : inc) {
+            const std::uint32_t other = edges_[e].a == i ? edges_[e].b : edges_[e].a;
+            const vec3 d = vertices_[other].position - p;
+            shortest = std::min(shortest, glm::length(d));
+            const vec3 t = d - glm::dot(d, n) * n;
+            if (glm::length(t) <= 1e-9 * glm::length(d)) undefined.push_back(e);
+            else dir.emplace_back(std::atan2(glm::dot(t, t2), glm::dot(t, t1)), e);
+        }
+        std::sort(dir.begin(), dir.end());
+        for (std::uint32_t e : undefined) {  // middle of the largest gap of the defined directions
+            double angle = 0;
+            if (!dir.empty()) {
+                std::size_t best = dir.size() - 1;
+                double best_gap = dir.front().first + two_pi - dir.back().first;
+                for (std::size_t j = 0; j + 1 < dir.size(); ++j)
+                    if (dir[j + 1].first - dir[j].first > best_gap) best_gap = dir[j + 1].first - dir[j].first, best = j;
+                angle = dir[best].first + 0.5 * best_gap;
+                if (angle > pi) angle -= two_pi;
+            }
+            dir.emplace_back(angle, e);
+            std::sort(dir.begin(), dir.end());
+        }
+
+        // Hub radius and (when needed) spread directions.
+        std::vector<double> y(k);
+        for (std::size_t j = 0; j < k; ++j) y[j] = dir[j].first;
+        double r = hw, beta = pi / 4;
+        if (k > 0) {
+            double gmin = two_pi;
+            for (std::size_t j = 0; j + 1 < k; ++j) gmin = std::min(gmin, y[j + 1] - y[j]);
+            if (k > 1) gmin = std::min(gmin, y[0] + two_pi - y[k - 1]);
+            const double r_cap = 0.35 * shortest;
+            beta = std::min(0.5 * q * gmin, pi / 4);
+            r = beta > 0 ? hw / std::tan(beta) : std::numeric_limits<double>::infinity();
+            if (r > r_cap) {
+                r = r_cap;
+                beta = std::atan(hw / r);
+                const double s = 2 * beta / q;
+                if (static_cast<double>(k) * s > two_pi) {  // even spacing, and a larger hub
+                    beta = q * pi / static_cast<double>(k);
+                    r = hw / std::tan(beta);
+                    if (r > 0.45 * shortest)
+                        throw invalid_input("beam_model: vertex " + std::to_string(i) + " has " + std::to_string(k) +
+                                            " neighbours, too many for beams " + std::to_string(width_) +
+                                            " mm wide with its shortest edge of " + std::to_string(shortest) +
+                                            " mm; use a smaller beam_width_mm");
+                    make_uniform(y);
+                } else if (gmin < s) {
+                    // Cut the circle at the largest gap (after y[cut]), spread, check the wrap-around gap.
+                    std::size_t cut = k - 1;
+                    double big = y[0] + two_pi - y[k - 1];
+                    for (std::size_t j = 0; j + 1 < k; ++j)
+                        if (y[j + 1] - y[j] > big) big = y[j + 1] - y[j], cut = j;
+                    std::vector<double> x(k);
+                    for (std::size_t j = 0; j < k; ++j) {
+                        const std::size_t src = (cut + 1 + j) % k;
+                        x[j] = y[src] + (src <= cut ? two_pi : 0.0);
+                    }
+                    const std::vector<double> z = detail::spread_angles(x, s);
+                    if (z.front() + two_pi - z.back() >= s * (1 - 1e-12)) {
+                        for (std::size_t j = 0; j < k; ++j) {
+                            const std::size_t src = (cut + 1 + j) % k;
+                            y[src] = z[j] - (src <= cut ? two_pi : 0.0);  // y stays ascending, span < 2 pi
+                        }
+                    } else {
+                        make_uniform(y);  // k s <= 2 pi: even spacing keeps the capped radius
+                    }
+                }
+            }
+        }
+        hub_radius_[i] = r;
+
+        // Polygon corners in angular order; side j owns corners (L_j, R_j).
+        const double rho = std::sqrt(r * r + hw * hw);
+        auto on_circle = [&](double a) { return p + rho * (std::cos(a) * t1 + std::sin(a) * t2); };
+        std::vector<vec3> corners;
+        std::vector<std::size_t> side_corner(k);  // index of L_j (R_j follows)
+        auto add_gap = [&](double from, double to) {
+            const double span = to - from;
+            const int m = std::max(0, static_cast<int>(std::ceil(span / max_step - 1e-9)) - 1);
+            for (int c = 1; c <= m; ++c) corners.push_back(on_circle(from + span * c / (m + 1)));
+        };
+        if (k == 0) {
+            for (int c = 0; c < 6; ++c) corners.push_back(p + hw * (std::cos(c * pi / 3) * t1 + std::sin(c * pi / 3) * t2));
+        } else {
+            for (std::size_t j = 0; j < k; ++j) {
+                const vec3 d = std::cos(y[j]) * t1 + std::sin(y[j]) * t2, e = glm::cross(n, d);
+                side_corner[j] = corners.size();
+                corners.push_back(p + r * d - hw * e);
+                corners.push_back(p + r * d + hw * e);
+                add_gap(y[j] + beta, (j + 1 < k ? y[j + 1] : y[0] + two_pi) - beta);
+            }
+        }
+        const auto base = static_cast<std::uint32_t>(mesh_.nodes.size());
+        const vec3 down = -opt_.thickness_mm * n;
+        mesh_.nodes.push_back(p);
+        mesh_.nodes.push_back(p + down);
+        for (const vec3& c : corners) mesh_.nodes.push_back(c), mesh_.nodes.push_back(c + down);
+        const auto outer = [&](std::size_t c) { return base + 2 + 2 * static_cast<std::uint32_t>(c); };
+        for (std::size_t c = 0; c < corners.size(); ++c) {
+            const std::size_t c1 = (c + 1) % corners.size();
+            const std::array<std::uint32_t, 6> w = {base + 1, outer(c) + 1, outer(c1) + 1, base, outer(c), outer(c1)};
+            fem::wedge6::nodes_t X;
+            for (int a = 0; a < 6; ++a) X[static_cast<std::size_t>(a)] = mesh_.nodes[w[static_cast<std::size_t>(a)]];
+            const auto [lo, hi] = detail::jacobian_range<fem::wedge6>(X);
+            if (!(lo > 1e-12 * hi)) throw invalid_input("beam_model: vertex " + std::to_string(i) + " has a degenerate hub wedge (internal)");
+            mesh_.elements.push_back(fem::make_element<fem::wedge6>(w));
+        }
+        for (std::size_t j = 0; j < k; ++j) {
+            const std::uint32_t e = dir[j].second;
+            const std::uint32_t L = outer(side_corner[j]), R = outer(side_corner[j] + 1);
+            sides_[e][edges_[e].a == i ? 0 : 1] = {L, R, L + 1, R + 1};
+        }
+    }
+
+    static void make_uniform(std::vector<double>& y) {
+        const std::size_t k = y.size();
+        const double step = 2 * std::numbers::pi / static_cast<double>(k);
+        double sn = 0, cs = 0;
+        for (std::size_t j = 0; j < k; ++j) sn += std::sin(y[j] - step * j), cs += std::cos(y[j] - step * j);
+        const double phase = std::atan2(sn, cs);
+        for (std::size_t j = 0; j < k; ++j) y[j] = phase + step * static_cast<double>(j);
+    }
+
+    void build_beams() {
+        for (std::size_t e = 0; e < edges_.size(); ++e) {
+            const side_nodes& A = sides_[e][0];
+            const side_nodes& B = sides_[e][1];
+            // Inner face (L_a, R_b, L_b, R_a), counter-clockwise about n; outer face above it.
+            std::array<std::uint32_t, 8> h = {A[2], B[3], B[2], A[3], A[0], B[1], B[0], A[1]};
+            auto range = [&] {
+                fem::hex8::nodes_t X;
+                for (int a = 0; a < 8; ++a) X[static_cast<std::size_t>(a)] = mesh_.nodes[h[static_cast<std::size_t>(a)]];
+                return detail::jacobian_range<fem::hex8>(X);
+            };
+            auto [lo, hi] = range();
+            if (hi < 0) {
+                for (int a = 0; a < 4; ++a) std::swap(h[static_cast<std::size_t>(a)], h[static_cast<std::size_t>(a + 4)]);
+                std::tie(lo, hi) = range();
+            }
+            if (!(lo > 1e-9 * hi))
+                throw invalid_input("beam_model: the beam of edge " + std::to_string(e) + " (" + std::to_string(edges_[e].a) + ", " +
+                                    std::to_string(edges_[e].b) + ") is folded or degenerate (det J from " + std::to_string(lo) +
+                                    " to " + std::to_string(hi) + "): the vertex frames fold between its ends (opposite normals, "
+                                    "too sharp curvature or an edge along a normal)");
+            mesh_.elements.push_back(fem::make_element<fem::hex8>(h, 0, edges_[e].solid ? 1.0 : opt_.rho_min));
+        }
+    }
+
+    void build_supports_and_loads(const std::optional<force_profile>& profile) {
+        const std::size_t nv = vertices_.size();
+        std::vector<std::uint8_t> fixed(mesh_.nodes.size(), 0);
+        if (profile && !profile->fixed_vertices.empty()) {
+            for (std::uint32_t v : profile->fixed_vertices)
+                for (std::uint32_t a = hub_begin_[v]; a < hub_begin_[v + 1]; ++a) fixed[a] = 1;
+        } else if (!mesh_.nodes.empty()) {
+            const vec3 up = -glm::normalize(opt_.gravity);
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            for (const vec3& x : mesh_.nodes) lo = std::min(lo, glm::dot(x, up)), hi = std::max(hi, glm::dot(x, up));
+            const double limit = lo + opt_.support_fraction * (hi - lo) + 1e-9 * std::max(hi - lo, 1e-300);
+            for (std::size_t a = 0; a < mesh_.nodes.size(); ++a) fixed[a] = glm::dot(mesh_.nodes[a], up) <= limit;
+        }
+        for (std::size_t a = 0; a < fixed.size(); ++a)
+            if (fixed[a])
+                for (int d = 0; d < 3; ++d) supports_.fixed.push_back({static_cast<std::uint32_t>(a), d, 0.0});
+
+        // Every connected part of the graph needs a fixed node.
+        union_find parts(nv);
+        for (const beam_edge& e : edges_) parts.unite(e.a, e.b);
+        std::vector<std::uint8_t> held(nv, 0);
+        for (std::size_t v = 0; v < nv; ++v)
+            for (std::uint32_t a = hub_begin_[v]; a < hub_begin_[v + 1]; ++a)
+                if (fixed[a]) held[parts.find(static_cast<std::uint32_t>(v))] = 1;
+        for (std::size_t v = 0; v < nv; ++v) {
+            const auto root = parts.find(static_cast<std::uint32_t>(v));
+            if (held[root]) continue;
+            std::string list;
+            std::size_t count = 0;
+            for (std::size_t u = 0; u < nv; ++u)
+                if (parts.find(static_cast<std::uint32_t>(u)) == root) {
+                    if (count < 8) list += (count ? ", " : "") + std::to_string(u);
+                    ++count;
+                }
+            if (count > 8) list += ", ... (" + std::to_string(count) + " vertices)";
+            throw no_solution("beam_model: the part of the graph with vertices " + list +
+                              " has no support (none of its nodes is fixed: it lies above the lowest " +
+                              std::to_string(opt_.support_fraction * 100) +
+                              "% along gravity and no fixed vertex of a force profile is in it), so it cannot carry loads");
+        }
+
+        // Loads: per-vertex forces spread by lumped wedge volume over the hub nodes.
+        std::vector<vec3> force(nv, vec3(0.0));
+        if (profile && !profile->loads.empty()) {
+            for (const auto& [v, f] : profile->loads) force[v] += f;
+        } else {
+            const vec3 g = glm::normalize(opt_.gravity) * opt_.load_per_vertex_n;
+            std::fill(force.begin(), force.end(), g);
+        }
+        std::vector<double> weight(mesh_.nodes.size(), 0.0);
+        for (std::size_t el = 0; el < first_hex_; ++el) {
+            const double V = fem::wedge6::volume(mesh_.element_nodes<fem::wedge6>(el), opt_.material);
+            for (int a = 0; a < 6; ++a) weight[mesh_.elements[el].nodes[static_cast<std::size_t>(a)]] += V / 6;
+        }
+        for (std::size_t v = 0; v < nv; ++v) {
+            if (force[v] == vec3(0.0)) continue;
+            double total = 0;
+            for (std::uint32_t a = hub_begin_[v]; a < hub_begin_[v + 1]; ++a) total += weight[a];
+            for (std::uint32_t a = hub_begin_[v]; a < hub_begin_[v + 1]; ++a)
+                for (int d = 0; d < 3; ++d)
+                    if (force[v][d] != 0.0) loads_.forces.push_back({a, d, force[v][d] * weight[a] / total});
+        }
+    }
+
+    beam_options opt_;
+    std::vector<beam_vertex> vertices_;
+    std::vector<beam_edge> edges_;
+    double width_ = 0;
+    fem::mesh mesh_;  ///< under construction; moved into ctx_, whose model() holds the current scales
+    std::vector<std::array<side_nodes, 2>> sides_;
+    std::vector<double> hub_radius_;
+    std::vector<std::uint32_t> hub_begin_;
+    std::size_t first_hex_ = 0;
+    fem::load_case supports_, loads_;
+    std::unique_ptr<fem::solve_context> ctx_;
+    fem::static_result last_;
+    beam_statistics stats_;
+};
+
+}  // namespace fabsynth::surface_pattern
