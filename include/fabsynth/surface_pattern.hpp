@@ -5,11 +5,13 @@
 /// (surface_pattern/shell.hpp), exemplars with their Gaussian stack and feature-distance channel
 /// (surface_pattern/exemplar.hpp), labels and the plane mapping (surface_pattern/labels.hpp), the
 /// synthesis energy (surface_pattern/energy.hpp), the optimizer and constrained resynthesis
-/// (surface_pattern/synthesis.hpp) and fabrication: specks, inward thickening, meshing
-/// (surface_pattern/fabricate.hpp).
+/// (surface_pattern/synthesis.hpp), fabrication: specks, inward thickening, meshing
+/// (surface_pattern/fabricate.hpp), and the §6.3 finite element validation of the thickened
+/// voxels (surface_pattern/validation.hpp).
 #include "fabsynth/surface_pattern/shell.hpp"
 #include "fabsynth/surface_pattern/exemplar.hpp"
 #include "fabsynth/surface_pattern/labels.hpp"
 #include "fabsynth/surface_pattern/energy.hpp"
 #include "fabsynth/surface_pattern/synthesis.hpp"
 #include "fabsynth/surface_pattern/fabricate.hpp"
+#include "fabsynth/surface_pattern/validation.hpp"
