@@ -590,23 +590,38 @@ private:
         for (std::size_t e = 0; e < edges_.size(); ++e) {
             const side_nodes& A = sides_[e][0];
             const side_nodes& B = sides_[e][1];
-            // Inner face (L_a, R_b, L_b, R_a), counter-clockwise about n; outer face above it.
-            std::array<std::uint32_t, 8> h = {A[2], B[3], B[2], A[3], A[0], B[1], B[0], A[1]};
-            auto range = [&] {
-                fem::hex8::nodes_t X;
-                for (int a = 0; a < 8; ++a) X[static_cast<std::size_t>(a)] = mesh_.nodes[h[static_cast<std::size_t>(a)]];
-                return detail::jacobian_range<fem::hex8>(X);
-            };
-            auto [lo, hi] = range();
-            if (hi < 0) {
-                for (int a = 0; a < 4; ++a) std::swap(h[static_cast<std::size_t>(a)], h[static_cast<std::size_t>(a + 4)]);
-                std::tie(lo, hi) = range();
-            }
+            // Inner face (L_a, R_b, L_b, R_a), counter-clockwise about n; outer face above it. Where the
+            // frames of the two ends disagree (normals turned by curvature, or an edge that crosses a thin
+            // part), the end-B side is taken in the order of its four nodes that gives the best Jacobian
+            // ratio (all 24 orders are tried when the plain one is poorly shaped); the nodes stay shared
+            // with both hubs.
+            std::array<std::uint32_t, 8> h{};
+            double lo = -1, hi = 1;
+            std::array<int, 4> perm = {0, 1, 2, 3};
+            bool first = true;
+            do {
+                const side_nodes b = {B[static_cast<std::size_t>(perm[0])], B[static_cast<std::size_t>(perm[1])],
+                                      B[static_cast<std::size_t>(perm[2])], B[static_cast<std::size_t>(perm[3])]};
+                std::array<std::uint32_t, 8> c = {A[2], b[3], b[2], A[3], A[0], b[1], b[0], A[1]};
+                auto range = [&] {
+                    fem::hex8::nodes_t X;
+                    for (int a = 0; a < 8; ++a) X[static_cast<std::size_t>(a)] = mesh_.nodes[c[static_cast<std::size_t>(a)]];
+                    return detail::jacobian_range<fem::hex8>(X);
+                };
+                auto [l, u] = range();
+                if (u < 0) {
+                    for (int a = 0; a < 4; ++a) std::swap(c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(a + 4)]);
+                    std::tie(l, u) = range();
+                }
+                if (first || (u > 0 && (hi <= 0 || l / u > lo / hi))) h = c, lo = l, hi = u;
+                if (first && lo > 0.05 * hi) break;  // the plain order is well shaped: keep it
+                first = false;
+            } while (std::next_permutation(perm.begin(), perm.end()));
             if (!(lo > 1e-9 * hi))
                 throw invalid_input("beam_model: the beam of edge " + std::to_string(e) + " (" + std::to_string(edges_[e].a) + ", " +
-                                    std::to_string(edges_[e].b) + ") is folded or degenerate (det J from " + std::to_string(lo) +
-                                    " to " + std::to_string(hi) + "): the vertex frames fold between its ends (opposite normals, "
-                                    "too sharp curvature or an edge along a normal)");
+                                    std::to_string(edges_[e].b) + ") is folded or degenerate in every node order (det J from " +
+                                    std::to_string(lo) + " to " + std::to_string(hi) +
+                                    "): the vertex frames fold between its ends (opposite normals, too sharp curvature or an edge along a normal)");
             mesh_.elements.push_back(fem::make_element<fem::hex8>(h, 0, edges_[e].solid ? 1.0 : opt_.rho_min));
         }
     }
