@@ -6,8 +6,7 @@
 /// (surface_pattern/exemplar.hpp), labels and the plane mapping (surface_pattern/labels.hpp), the
 /// synthesis energy (surface_pattern/energy.hpp), the optimizer and constrained resynthesis
 /// (surface_pattern/synthesis.hpp), the surface and abstract graphs (surface_pattern/abstract_graph.hpp),
-/// the beam-wedge FEM model that scores abstract edges (surface_pattern/beam_model.hpp), the
-/// structural optimizer and the loop of Algorithm 1 (surface_pattern/structural.hpp), fabrication:
+/// the beam-wedge FEM model that scores abstract edges (surface_pattern/beam_model.hpp), fabrication:
 /// specks, inward thickening, meshing (surface_pattern/fabricate.hpp) and thin features
 /// (surface_pattern/thin_features.hpp), and the full-resolution validation
 /// (surface_pattern/validation.hpp).
@@ -19,6 +18,5 @@
 #include "fabsynth/surface_pattern/abstract_graph.hpp"
 #include "fabsynth/surface_pattern/fabricate.hpp"
 #include "fabsynth/surface_pattern/beam_model.hpp"
-#include "fabsynth/surface_pattern/structural.hpp"
 #include "fabsynth/surface_pattern/thin_features.hpp"
 #include "fabsynth/surface_pattern/validation.hpp"
