@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -423,27 +422,3 @@ TEST_CASE("render: bunny preview", "[.][render_preview]") {
 }
 
 // Not run by default: time of 1M, 2M and 5M triangles at 1024 x 1024 (tori on lat-long grids).
-TEST_CASE("render: timing", "[.][render_bench]") {
-    for (const int nu : {1000, 2000, 5000}) {
-        const int nv = 500;
-        triangle_mesh m;
-        for (int i = 0; i < nu; ++i)
-            for (int j = 0; j < nv; ++j) {
-                const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-                m.vertices.push_back({(3 + std::cos(v)) * std::cos(u), (3 + std::cos(v)) * std::sin(u), std::sin(v)});
-            }
-        const auto id = [&](int i, int j) { return static_cast<std::uint32_t>((i % nu) * nv + (j % nv)); };
-        for (int i = 0; i < nu; ++i)
-            for (int j = 0; j < nv; ++j) {
-                m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-                m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-            }
-        for (const render_view& v : {render_view{}, render_view{.direction = {1, 2, -3}, .up = {0, 0, 1}}}) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const image8 im = render_shaded(m, v, {.width = 1024, .height = 1024});
-            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            std::cout << m.num_faces() << " triangles at 1024x1024, " << num_threads() << " threads: " << s << " s\n";
-            CHECK(count_not(im, {255, 255, 255}) > 100000);
-        }
-    }
-}
