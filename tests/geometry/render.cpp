@@ -420,5 +420,3 @@ TEST_CASE("render: bunny preview", "[.][render_preview]") {
     io::write_png(dir / "bunny_z_up.png", render_two_sides(z_up, {}, {.width = 400, .height = 400}));
     std::cout << "wrote " << (dir / "bunny_two_sides.png") << "\n";
 }
-
-// Not run by default: time of 1M, 2M and 5M triangles at 1024 x 1024 (tori on lat-long grids).

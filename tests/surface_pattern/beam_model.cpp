@@ -234,7 +234,6 @@ TEST_CASE("beam_model: changing edge states reuses the analysis and matches a fr
     if (!opt.solver.reuse_preconditioner) CHECK(st.factorizations == st.solves);
     CHECK(st.hexes == g.e.size());
     CHECK(st.dofs == 3 * st.nodes);
-    CHECK(st.last_solve_seconds > 0);
 }
 
 TEST_CASE("beam_model: curved graphs build, balance their loads and are thread-count independent", "[surface_pattern][beam]") {
