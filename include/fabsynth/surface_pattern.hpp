@@ -8,8 +8,9 @@
 /// (surface_pattern/synthesis.hpp), the surface and abstract graphs (surface_pattern/abstract_graph.hpp),
 /// the beam-wedge FEM model that scores abstract edges (surface_pattern/beam_model.hpp), fabrication:
 /// specks, inward thickening, meshing (surface_pattern/fabricate.hpp) and thin features
-/// (surface_pattern/thin_features.hpp), and the full-resolution validation
-/// (surface_pattern/validation.hpp).
+/// (surface_pattern/thin_features.hpp), the full-resolution validation
+/// (surface_pattern/validation.hpp), and the structural optimizer with the loop of Algorithm 1
+/// (surface_pattern/structural.hpp).
 #include "fabsynth/surface_pattern/shell.hpp"
 #include "fabsynth/surface_pattern/exemplar.hpp"
 #include "fabsynth/surface_pattern/labels.hpp"
@@ -20,3 +21,4 @@
 #include "fabsynth/surface_pattern/beam_model.hpp"
 #include "fabsynth/surface_pattern/thin_features.hpp"
 #include "fabsynth/surface_pattern/validation.hpp"
+#include "fabsynth/surface_pattern/structural.hpp"

@@ -266,7 +266,7 @@ TEST_CASE("beam_model: degenerate neighbourhoods fall back to a valid hub", "[su
         {{0, 0, 0}, {0, -1, 0}}, {{10, 0, 0}, {0, -1, 0}}, {{10, 0, 1}, {0, -1, 0}}, {{0, 0, 10}, {0, -1, 0}}, {{-10, 0, -4}, {0, -1, 0}},
     };
     const std::vector<sp::beam_edge> e = {{0, 1, true}, {0, 2, true}, {0, 3, false}};
-    sp::beam_model model(v, e, {.beam_width_mm = 1.0});
+    sp::beam_model model(v, e, {.beam_width_mm = 1.0}, sp::force_profile{{0, 4}, {}});  // hub 0 held whole
     const auto score = model.solve();
     for (double s : score) CHECK((std::isfinite(s) && s > 0));
     CHECK(model.hub_radius(0) <= 0.35 * 10.0 + 1e-12);
@@ -322,4 +322,39 @@ TEST_CASE("beam_model: bad input throws invalid_input, unsupported parts no_solu
     auto ee = e;
     ee.push_back({3, 4, true});
     CHECK_THROWS_AS(sp::beam_model(vv, ee, opt), no_solution);
+}
+
+TEST_CASE("beam_model: an edge across a thin part is split at a knot and carries the load of what hangs from it",
+          "[surface_pattern][beam]") {
+    // A fin 1 mm thick: column A on its +x face (z = 0..30), column B on its -x face (z = 10..30),
+    // joined only at the top by an edge along A's normal, which no single hex can follow.
+    std::vector<sp::beam_vertex> v;
+    std::vector<sp::beam_edge> e;
+    for (int i = 0; i < 4; ++i) v.push_back({{0.5, 0, 10.0 * i}, {1, 0, 0}});
+    for (int i = 1; i < 4; ++i) v.push_back({{-0.5, 0, 10.0 * i}, {-1, 0, 0}});
+    for (std::uint32_t i = 0; i < 3; ++i) e.push_back({i, i + 1, true});
+    e.push_back({4, 5, true});
+    e.push_back({5, 6, true});
+    e.push_back({3, 6, true, sp::beam_vertex{{0, 0, 30.5}, {0, 0, 1}}});  // across the fin, knot on its rim
+    sp::beam_model model(v, e, {.thickness_mm = 0.5, .beam_width_mm = 0.3});
+    CHECK(model.statistics().knots == 1);
+    CHECK(model.statistics().hexes == e.size() + 1);
+    for (std::size_t k = 0; k + 1 < e.size(); ++k) CHECK_FALSE(model.edge_split(k));
+    REQUIRE(model.edge_split(5));
+    const auto [h0, h1] = model.edge_elements(5);
+    CHECK(h1 == h0 + 2);
+    const std::vector<double> score = model.solve();
+    // Statics: the reactions balance the 7 N on the seven vertices (knots carry no load).
+    vec3 R(0.0);
+    for (const auto& f : model.supports().fixed)
+        R[f.dof] += model.last_result().reactions(static_cast<Eigen::Index>(model.last_result().dofs.index(f.node, f.dof)));
+    CHECK(R.z == Approx(7.0).epsilon(1e-8));
+    // Column B's 3 N reach the support only through the split edge: it is stressed, and softening
+    // it (rho_min) moves B far more than A's top.
+    CHECK(score[5] > 0.01);
+    const double drop_solid = model.last_result().displacement(model.vertex_nodes(6).first).z;
+    model.set_edge_solid(5, false);
+    (void)model.solve();
+    const double drop_empty = model.last_result().displacement(model.vertex_nodes(6).first).z;
+    CHECK(drop_empty < 100 * drop_solid);  // both negative: B sags far more through the soft knot
 }

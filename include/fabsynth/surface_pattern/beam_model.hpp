@@ -35,8 +35,10 @@
 ///   closest angles with those gaps (isotonic regression, pool-adjacent-violators, cut at the
 ///   largest gap); if that does not close around the circle, or k s > 2 pi, the directions become
 ///   evenly spaced (phase = circular mean of the sorted angles), with r = (w/2) / tan(q pi / k) in
-///   the second case; if that r exceeds 0.45 x the shortest incident edge, invalid_input (too many
-///   neighbours for the beam width). A beam whose side is rotated by the spreading is simply skewed.
+///   the second case; if that r exceeds 0.45 x the shortest incident edge (too many neighbours for
+///   the beam width), r becomes 0.45 x that edge and this hub's sides are narrowed to fit (half-
+///   width r tan(q pi / k)): its beams taper towards it (statistics().narrowed_hubs counts them).
+///   A beam whose side is rotated by the spreading is simply skewed.
 /// - Polygon: corners L_j = p + r d_j - (w/2) n x d_j and R_j = p + r d_j + (w/2) n x d_j for each
 ///   direction d_j, and in each gap between sides extra corners on the same circle (radius
 ///   sqrt(r^2 + w^2/4)), evenly spaced so that no step exceeds 60 deg. A vertex with no edge gets a
@@ -45,8 +47,19 @@
 ///   polygon step (bottom = inner face, counter-clockwise about n), all with positive Jacobians.
 /// - Beams: the hex8 of edge (a, b) shares the four nodes (outer and inner L, R) of a's side for
 ///   it and the four of b's side, in the order (L_a, R_b, L_b, R_a) about n; if its Jacobian is
-///   negative at all corners the faces are swapped; if it changes sign (the frames fold between a
-///   and b: opposite normals, too sharp curvature) invalid_input names the edge.
+///   negative at all corners the faces are swapped; if no order of b's four nodes gives a valid hex
+///   (the frames fold between a and b: an edge across a thin part joins voxels of opposite
+///   normals, or runs along a normal), the edge is split at a knot: an extra hub at the chord
+///   midpoint whose normal is perpendicular to the chord, joined to a and b by one hex each (each
+///   half bends by at most ~90 degrees), or at the edge's own knot point (beam_edge::knot). If a
+///   half still folds, the hubs of both ends are extruded by half as much (twice, down to 1/4 of
+///   the thickness): in a part thinner than twice the thickness the inner faces of the hubs on
+///   its two sides overlap, and no element can join them. Such thin hubs make the model locally
+///   weaker (conservative). Knots carry no load; a split edge scores its more stressed half. An
+///   edge that still folds is left out of the FEM as a last resort (statistics().unmodelled_edges:
+///   a few in a thousand on the bunny, at its thinnest parts) and scores the largest score of the
+///   modelled edges at its ends. A part that only unmodelled edges join to the rest is fixed
+///   where it stands (statistics().cut_off_vertices).
 /// - Stiffness: wedges rho = 1, solid beams 1, empty beams rho_min (the paper's K_e = rho(e) K_e).
 /// - Supports: every node whose height along -gravity lies in the lowest support_fraction of the
 ///   nodes' extent (ties within 1e-9 of it included) is fixed in x, y, z. A force_profile may
@@ -113,10 +126,13 @@ struct beam_vertex {
     vec3 position{0.0};
     vec3 normal{0.0, 0.0, 1.0};
 };
-/// An abstract edge between vertices a and b; solid: rho = 1, else rho_min.
+/// An abstract edge between vertices a and b; solid: rho = 1, else rho_min. `knot`: where the
+/// edge is split if no single hex can join its ends (see the file comment), e.g. the middle of the
+/// voxel path it stands for; empty = the chord midpoint.
 struct beam_edge {
     std::uint32_t a = 0, b = 0;
     bool solid = true;
+    std::optional<beam_vertex> knot{};
 };
 
 /// Where the beam stress of an edge is sampled for its score.
@@ -137,6 +153,10 @@ enum class beam_stress_sample : std::uint8_t {
     fem::solve_options o;
     o.method = fem::method_available(fem::solver_method::cholmod) ? fem::solver_method::cholmod : fem::solver_method::ldlt;
     o.reuse_preconditioner = false;
+    // Empty beams at rho_min next to solid ones and the short, narrowed beams of crowded hubs make
+    // the system ill-conditioned (a direct solve leaves |K u - f| / |f| ~ 1e-5 on the bunny); the
+    // scores only rank edges, so a residual of 1e-3 is accepted.
+    o.residual_tolerance = 1e-3;
     return o;
 }
 
@@ -165,6 +185,11 @@ struct force_profile {
 struct beam_statistics {
     std::size_t vertices = 0, edges = 0;
     std::size_t nodes = 0, wedges = 0, hexes = 0, dofs = 0, free_dofs = 0, fixed_nodes = 0;
+    std::size_t knots = 0;  ///< folded edges split at a knot (two hexes each)
+    std::size_t narrowed_hubs = 0;  ///< hubs whose sides are narrower than the beam width (too many neighbours)
+    std::size_t thinned_hubs = 0;   ///< vertices extruded by less than the thickness (ends of folded edges)
+    std::size_t unmodelled_edges = 0;  ///< edges no element could represent (left out, scored by their neighbours)
+    std::size_t cut_off_vertices = 0;  ///< vertices of parts joined only by unmodelled edges, fixed where they stand
     double beam_width_mm = 0;
     std::string method;  ///< solver method of the context (ldlt, amg, ...)
     int analyses = 0, factorizations = 0, solves = 0, reused_solves = 0;
@@ -175,7 +200,7 @@ struct beam_statistics {
 
 namespace detail {
 
-/// det J of element E at its nodes and centroid: (min, max).
+/// det J of element E at its nodes, centroid and quadrature points: (min, max).
 template <class E>
 [[nodiscard]] std::pair<double, double> jacobian_range(const typename E::nodes_t& X) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -190,6 +215,7 @@ template <class E>
     };
     for (int a = 0; a < E::num_nodes; ++a) at(fem::node_natural_coordinates<E>(a));
     at(E::centroid());
+    for (const auto& g : E::quadrature()) at(g.xi);  // the assembly checks these
     return {lo, hi};
 }
 
@@ -224,8 +250,8 @@ class beam_model {
 public:
     /// Builds the model and analyses it once (fem::solve_context). Throws invalid_input for bad
     /// input (edge index out of range, a == b, duplicate edge, coincident endpoints, non-finite
-    /// positions, zero normal, bad options or force profile, too many neighbours for the beam
-    /// width, folded beams), no_solution for a part of the graph without supports, solver_error
+    /// positions, zero normal, bad options, knots or force profile, beams folded even through a
+    /// knot), no_solution for a part of the graph without supports, solver_error
     /// for a part the supports cannot hold.
     beam_model(std::span<const beam_vertex> vertices, std::span<const beam_edge> edges, const beam_options& opt = {},
                const std::optional<force_profile>& profile = std::nullopt)
@@ -233,8 +259,34 @@ public:
         const auto t0 = clock::now();
         validate_input(profile);
         choose_width();
-        build_hubs();
-        build_beams();
+        user_vertices_ = vertices_.size();
+        // Folded edges: first split at a knot, then halve the extrusion at both ends (thin parts).
+        std::vector<std::uint8_t> split(edges_.size(), 0);
+        std::vector<double> thinning(user_vertices_, 1.0);
+        for (int attempt = 0;; ++attempt) {
+            make_segments(split, thinning);
+            build_hubs();
+            const std::vector<std::size_t> folded = build_beams();
+            if (folded.empty()) break;
+            if (attempt == 12 + max_thinning) throw_folded(folded.front());
+            for (const std::size_t seg : folded) {
+                const std::uint32_t e = segments_[seg].edge;
+                if (attempt >= 1 + max_thinning) {
+                    split[e] = 2;  // last resort: left out of the FEM (scored by its neighbours)
+                    continue;
+                }
+                if (!split[e]) {
+                    split[e] = 1;
+                    continue;
+                }
+                for (const std::uint32_t v : {edges_[e].a, edges_[e].b})
+                    if (thinning[v] > std::ldexp(1.0, -max_thinning) * 1.5) thinning[v] *= 0.5;
+            }
+            mesh_ = {};
+            narrowed_hubs_ = 0;
+            vertices_.resize(user_vertices_);
+        }
+        for (std::size_t e = 0; e < edges_.size(); ++e) unmodelled_ += modelled(e) ? 0 : 1;
         mesh_.sections.push_back({opt_.material, 0.0});
         build_supports_and_loads(profile);
         try {
@@ -245,16 +297,28 @@ public:
         stats_.build_seconds = seconds_since(t0);
     }
 
-    [[nodiscard]] std::size_t num_vertices() const noexcept { return vertices_.size(); }
+    [[nodiscard]] std::size_t num_vertices() const noexcept { return user_vertices_; }
     [[nodiscard]] std::size_t num_edges() const noexcept { return edges_.size(); }
     [[nodiscard]] bool edge_solid(std::size_t edge) const { return edges_.at(edge).solid; }
     [[nodiscard]] double beam_width() const noexcept { return width_; }
     /// Hub radius r of vertex i (distance from p to each side) [mm].
     [[nodiscard]] double hub_radius(std::size_t i) const { return hub_radius_.at(i); }
-    /// Index in mesh() of the hex8 beam of an edge.
+    /// Index in mesh() of the (first) hex8 beam of an edge; a folded edge has two (edge_elements).
+    /// Throws invalid_input for an unmodelled edge (statistics().unmodelled_edges).
     [[nodiscard]] std::size_t edge_element(std::size_t edge) const {
         check_edge(edge, "edge_element");
-        return first_hex_ + edge;
+        if (!modelled(edge)) throw invalid_input("beam_model::edge_element: edge " + std::to_string(edge) + " has no element (unmodelled)");
+        return first_hex_ + edge_segment_begin_[edge];
+    }
+    /// Indices in mesh() of all hex8 beams of an edge [first, last): one, or two through a knot.
+    [[nodiscard]] std::pair<std::size_t, std::size_t> edge_elements(std::size_t edge) const {
+        check_edge(edge, "edge_elements");
+        return {first_hex_ + edge_segment_begin_[edge], first_hex_ + edge_segment_begin_[edge + 1]};
+    }
+    /// Whether an edge was split at a knot because no single hex joins its ends (see the file comment).
+    [[nodiscard]] bool edge_split(std::size_t edge) const {
+        check_edge(edge, "edge_split");
+        return edge_segment_begin_[edge + 1] - edge_segment_begin_[edge] > 1;
     }
     /// Node indices [first, last) in mesh() of vertex i's hub (centre outer, centre inner, then
     /// each polygon corner outer, inner).
@@ -286,8 +350,10 @@ public:
             check_edge(e, "set_edge_solid");
             if (edges_[e].solid == solid) continue;
             edges_[e].solid = solid;
-            elements.push_back(first_hex_ + e);
-            scales.push_back(solid ? 1.0 : opt_.rho_min);
+            for (std::uint32_t s = edge_segment_begin_[e]; s < edge_segment_begin_[e + 1]; ++s) {
+                elements.push_back(first_hex_ + s);
+                scales.push_back(solid ? 1.0 : opt_.rho_min);
+            }
         }
         ctx_->set_stiffness_scales(elements, scales);
     }
@@ -302,18 +368,31 @@ public:
         const fem::stress_options so{.apply_stiffness_scale = opt_.carried_stress};
         std::vector<double> score(edges_.size());
         parallel_for(0, edges_.size(), [&](std::size_t e) {
-            const std::size_t el = first_hex_ + e;
-            if (opt_.sample == beam_stress_sample::centre) {
-                score[e] = fem::principal_stress_score(fem::element_stress(m, last_, el, fem::hex8::centroid(), so));
-                return;
+            double best = 0;  // a split edge scores its more stressed half
+            for (std::uint32_t seg = edge_segment_begin_[e]; seg < edge_segment_begin_[e + 1]; ++seg) {
+                const std::size_t el = first_hex_ + seg;
+                if (opt_.sample == beam_stress_sample::centre) {
+                    best = std::max(best, fem::principal_stress_score(fem::element_stress(m, last_, el, fem::hex8::centroid(), so)));
+                    continue;
+                }
+                double sum = 0, mx = 0;
+                for (const vec3& xi : fem::hex8::stress_points()) {
+                    const double s = fem::principal_stress_score(fem::element_stress(m, last_, el, xi, so));
+                    sum += s, mx = std::max(mx, s);
+                }
+                best = std::max(best, opt_.sample == beam_stress_sample::gauss_max ? mx
+                                                                                  : sum / static_cast<double>(fem::hex8::stress_points().size()));
             }
-            double sum = 0, mx = 0;
-            for (const vec3& xi : fem::hex8::stress_points()) {
-                const double s = fem::principal_stress_score(fem::element_stress(m, last_, el, xi, so));
-                sum += s, mx = std::max(mx, s);
-            }
-            score[e] = opt_.sample == beam_stress_sample::gauss_max ? mx : sum / static_cast<double>(fem::hex8::stress_points().size());
+            score[e] = best;
         }, {.grain = 64});
+        // unmodelled edges: the largest score of the modelled edges at either end
+        if (unmodelled_ > 0) {
+            std::vector<double> at(user_vertices_, 0.0);
+            for (std::size_t e = 0; e < edges_.size(); ++e)
+                if (modelled(e)) at[edges_[e].a] = std::max(at[edges_[e].a], score[e]), at[edges_[e].b] = std::max(at[edges_[e].b], score[e]);
+            for (std::size_t e = 0; e < edges_.size(); ++e)
+                if (!modelled(e)) score[e] = std::max(at[edges_[e].a], at[edges_[e].b]);
+        }
         stats_.last_solve_seconds = seconds_since(t0);
         stats_.total_solve_seconds += stats_.last_solve_seconds;
         return score;
@@ -322,8 +401,13 @@ public:
     [[nodiscard]] beam_statistics statistics() const {
         beam_statistics s = stats_;
         const fem::solve_statistics& c = ctx_->statistics();
-        s.vertices = vertices_.size(), s.edges = edges_.size();
-        s.nodes = ctx_->model().nodes.size(), s.hexes = edges_.size(), s.wedges = first_hex_;
+        s.vertices = user_vertices_, s.edges = edges_.size();
+        s.knots = vertices_.size() - user_vertices_;
+        s.narrowed_hubs = narrowed_hubs_;
+        s.unmodelled_edges = unmodelled_;
+        s.cut_off_vertices = cut_off_fixed_;
+        for (std::size_t v = 0; v < user_vertices_; ++v) s.thinned_hubs += vertex_thickness_[v] < opt_.thickness_mm;
+        s.nodes = ctx_->model().nodes.size(), s.hexes = segments_.size(), s.wedges = first_hex_;
         s.dofs = ctx_->dofs().total, s.free_dofs = c.free_dofs;
         s.fixed_nodes = c.fixed_dofs / 3;
         s.beam_width_mm = width_;
@@ -387,6 +471,15 @@ private:
             const vec3 d = vertices_[E.b].position - vertices_[E.a].position;
             const double scale = std::max({1.0, glm::length(vertices_[E.a].position), glm::length(vertices_[E.b].position)});
             if (!(glm::length(d) > 1e-9 * scale)) throw invalid_input(name + " joins two vertices at the same position");
+            if (E.knot) {
+                beam_vertex& k = edges_[e].knot.value();
+                const double len = all_finite(k.normal) ? glm::length(k.normal) : 0.0;
+                if (!all_finite(k.position) || !(len > 1e-12 && std::isfinite(len)))
+                    throw invalid_input(name + " has a knot with a non-finite position or a zero normal");
+                k.normal /= len;
+                const double da = glm::length(k.position - vertices_[E.a].position), db = glm::length(k.position - vertices_[E.b].position);
+                if (!(da > 1e-9 * scale && db > 1e-9 * scale)) throw invalid_input(name + " has its knot on an endpoint");
+            }
             keys.emplace_back((std::uint64_t{std::min(E.a, E.b)} << 32) | std::max(E.a, E.b), e);
         }
         std::sort(keys.begin(), keys.end());
@@ -425,16 +518,54 @@ private:
         width_ = std::min(0.2 * median, 0.6 * len.front());
     }
 
-    /// Incident edges of every vertex (CSR, by edge index) and the hub of each vertex.
+    /// The beams: one segment per edge, or two through a knot vertex (appended to vertices_) for
+    /// the edges marked in split. The knot sits at the chord midpoint; its normal is the mean of
+    /// the end normals made perpendicular to the chord (else n_a's perpendicular part, else any
+    /// perpendicular), so both half-chords lie in its tangent plane and each half bends by at most
+    /// about 90 degrees where a single beam would have to fold through 180.
+    void make_segments(std::span<const std::uint8_t> split, std::span<const double> thinning) {
+        segments_.clear();
+        vertex_thickness_.resize(user_vertices_);
+        for (std::size_t v = 0; v < user_vertices_; ++v) vertex_thickness_[v] = opt_.thickness_mm * thinning[v];
+        edge_segment_begin_.assign(edges_.size() + 1, 0);
+        for (std::size_t e = 0; e < edges_.size(); ++e) {
+            const beam_edge& E = edges_[e];
+            const auto edge = static_cast<std::uint32_t>(e);
+            edge_segment_begin_[e] = static_cast<std::uint32_t>(segments_.size());
+            if (split[e] == 0) {
+                segments_.push_back({E.a, E.b, edge});
+                continue;
+            }
+            if (split[e] == 2) continue;  // unmodelled
+            const auto knot = static_cast<std::uint32_t>(vertices_.size());
+            if (E.knot) {
+                vertices_.push_back(*E.knot);
+            } else {
+                const beam_vertex &A = vertices_[E.a], &B = vertices_[E.b];
+                const vec3 d = glm::normalize(B.position - A.position);
+                const auto perpendicular = [&](const vec3& v) { return v - glm::dot(v, d) * d; };
+                vec3 n = perpendicular(A.normal + B.normal);
+                if (glm::length(n) < 0.1) n = perpendicular(A.normal);
+                if (glm::length(n) < 0.1) n = perpendicular(std::abs(d.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0));
+                vertices_.push_back({0.5 * (A.position + B.position), glm::normalize(n)});
+            }
+            vertex_thickness_.push_back(std::min(vertex_thickness_[E.a], vertex_thickness_[E.b]));
+            segments_.push_back({E.a, knot, edge});
+            segments_.push_back({knot, E.b, edge});
+        }
+        edge_segment_begin_[edges_.size()] = static_cast<std::uint32_t>(segments_.size());
+    }
+
+    /// Incident segments of every vertex (CSR, by segment index) and the hub of each vertex.
     void build_hubs() {
         const std::size_t nv = vertices_.size();
         std::vector<std::uint32_t> start(nv + 1, 0);
-        for (const beam_edge& e : edges_) ++start[e.a + 1], ++start[e.b + 1];
+        for (const segment& e : segments_) ++start[e.a + 1], ++start[e.b + 1];
         for (std::size_t i = 0; i < nv; ++i) start[i + 1] += start[i];
         std::vector<std::uint32_t> incident(start.back()), fill(start.begin(), start.end() - 1);
-        for (std::size_t e = 0; e < edges_.size(); ++e)
-            incident[fill[edges_[e].a]++] = static_cast<std::uint32_t>(e), incident[fill[edges_[e].b]++] = static_cast<std::uint32_t>(e);
-        sides_.assign(edges_.size(), {});
+        for (std::size_t e = 0; e < segments_.size(); ++e)
+            incident[fill[segments_[e].a]++] = static_cast<std::uint32_t>(e), incident[fill[segments_[e].b]++] = static_cast<std::uint32_t>(e);
+        sides_.assign(segments_.size(), {});
         hub_radius_.assign(nv, 0.0);
         hub_begin_.assign(nv + 1, 0);
         for (std::size_t i = 0; i < nv; ++i) {
@@ -456,14 +587,14 @@ private:
                                                                                             : vec3(0, 0, 1);
         const vec3 t1 = glm::normalize(glm::cross(n, ax)), t2 = glm::cross(n, t1);
         const std::size_t k = inc.size();
-        const double hw = 0.5 * width_;
+        double hw = 0.5 * width_;  // narrowed below at a hub with too many neighbours for the width
 
         // Directions: angle of each incident edge's neighbour in the tangent plane.
         double shortest = std::numeric_limits<double>::infinity();
         std::vector<std::pair<double, std::uint32_t>> dir;  // (angle, edge), undefined angles = NaN
         std::vector<std::uint32_t> undefined;
         for (std::uint32_t e : inc) {
-            const std::uint32_t other = edges_[e].a == i ? edges_[e].b : edges_[e].a;
+            const std::uint32_t other = segments_[e].a == i ? segments_[e].b : segments_[e].a;
             const vec3 d = vertices_[other].position - p;
             shortest = std::min(shortest, glm::length(d));
             const vec3 t = d - glm::dot(d, n) * n;
@@ -498,16 +629,26 @@ private:
             r = beta > 0 ? hw / std::tan(beta) : std::numeric_limits<double>::infinity();
             if (r > r_cap) {
                 r = r_cap;
+                // Narrower sides first (each still faces its neighbour); spreading the directions
+                // turns the sides away from their neighbours and twists short beams inside out.
+                const double fit = r_cap * std::tan(beta);
+                if (fit >= 0.25 * hw) {
+                    hw = fit;
+                    ++narrowed_hubs_;
+                } else {
+                    hw *= 0.25;
+                    ++narrowed_hubs_;
+                }
                 beta = std::atan(hw / r);
                 const double s = 2 * beta / q;
                 if (static_cast<double>(k) * s > two_pi) {  // even spacing, and a larger hub
                     beta = q * pi / static_cast<double>(k);
                     r = hw / std::tan(beta);
-                    if (r > 0.45 * shortest)
-                        throw invalid_input("beam_model: vertex " + std::to_string(i) + " has " + std::to_string(k) +
-                                            " neighbours, too many for beams " + std::to_string(width_) +
-                                            " mm wide with its shortest edge of " + std::to_string(shortest) +
-                                            " mm; use a smaller beam_width_mm");
+                    if (r > 0.45 * shortest) {  // narrower sides here: the beams taper towards this hub
+                        r = 0.45 * shortest;
+                        hw = r * std::tan(beta);
+                        ++narrowed_hubs_;
+                    }
                     make_uniform(y);
                 } else if (gmin < s) {
                     // Cut the circle at the largest gap (after y[cut]), spread, check the wrap-around gap.
@@ -556,7 +697,7 @@ private:
             }
         }
         const auto base = static_cast<std::uint32_t>(mesh_.nodes.size());
-        const vec3 down = -opt_.thickness_mm * n;
+        const vec3 down = -vertex_thickness_[i] * n;
         mesh_.nodes.push_back(p);
         mesh_.nodes.push_back(p + down);
         for (const vec3& c : corners) mesh_.nodes.push_back(c), mesh_.nodes.push_back(c + down);
@@ -573,7 +714,7 @@ private:
         for (std::size_t j = 0; j < k; ++j) {
             const std::uint32_t e = dir[j].second;
             const std::uint32_t L = outer(side_corner[j]), R = outer(side_corner[j] + 1);
-            sides_[e][edges_[e].a == i ? 0 : 1] = {L, R, L + 1, R + 1};
+            sides_[e][segments_[e].a == i ? 0 : 1] = {L, R, L + 1, R + 1};
         }
     }
 
@@ -586,8 +727,10 @@ private:
         for (std::size_t j = 0; j < k; ++j) y[j] = phase + step * static_cast<double>(j);
     }
 
-    void build_beams() {
-        for (std::size_t e = 0; e < edges_.size(); ++e) {
+    /// One hex8 per segment; returns the segments no node order makes a valid hex (nothing added then).
+    [[nodiscard]] std::vector<std::size_t> build_beams() {
+        std::vector<std::size_t> folded;
+        for (std::size_t e = 0; e < segments_.size(); ++e) {
             const side_nodes& A = sides_[e][0];
             const side_nodes& B = sides_[e][1];
             // Inner face (L_a, R_b, L_b, R_a), counter-clockwise about n; outer face above it. Where the
@@ -617,17 +760,26 @@ private:
                 if (first && lo > 0.05 * hi) break;  // the plain order is well shaped: keep it
                 first = false;
             } while (std::next_permutation(perm.begin(), perm.end()));
-            if (!(lo > 1e-9 * hi))
-                throw invalid_input("beam_model: the beam of edge " + std::to_string(e) + " (" + std::to_string(edges_[e].a) + ", " +
-                                    std::to_string(edges_[e].b) + ") is folded or degenerate in every node order (det J from " +
-                                    std::to_string(lo) + " to " + std::to_string(hi) +
-                                    "): the vertex frames fold between its ends (opposite normals, too sharp curvature or an edge along a normal)");
-            mesh_.elements.push_back(fem::make_element<fem::hex8>(h, 0, edges_[e].solid ? 1.0 : opt_.rho_min));
+            if (!(lo > 1e-9 * hi)) {
+                folded.push_back(e);
+                continue;
+            }
+            if (folded.empty())
+                mesh_.elements.push_back(fem::make_element<fem::hex8>(h, 0, edges_[segments_[e].edge].solid ? 1.0 : opt_.rho_min));
         }
+        return folded;
+    }
+
+    [[noreturn]] void throw_folded(std::size_t seg) const {
+        const beam_edge& E = edges_[segments_[seg].edge];
+        throw invalid_input("beam_model: the beam of edge " + std::to_string(segments_[seg].edge) + " (" + std::to_string(E.a) + ", " +
+                            std::to_string(E.b) +
+                            ") is folded or degenerate in every node order, even split at a knot: the vertex frames fold between its "
+                            "ends (opposite normals, too sharp curvature or an edge along a normal)");
     }
 
     void build_supports_and_loads(const std::optional<force_profile>& profile) {
-        const std::size_t nv = vertices_.size();
+        const std::size_t nv = user_vertices_;
         std::vector<std::uint8_t> fixed(mesh_.nodes.size(), 0);
         if (profile && !profile->fixed_vertices.empty()) {
             for (std::uint32_t v : profile->fixed_vertices)
@@ -639,20 +791,37 @@ private:
             const double limit = lo + opt_.support_fraction * (hi - lo) + 1e-9 * std::max(hi - lo, 1e-300);
             for (std::size_t a = 0; a < mesh_.nodes.size(); ++a) fixed[a] = glm::dot(mesh_.nodes[a], up) <= limit;
         }
+        // Every connected part of the graph needs a fixed node.
+        union_find parts(nv), whole(nv);
+        for (const beam_edge& e : edges_) whole.unite(e.a, e.b);
+        for (std::size_t e = 0; e < edges_.size(); ++e)
+            if (modelled(e)) parts.unite(edges_[e].a, edges_[e].b);
+        std::vector<std::uint8_t> held(nv, 0);
+        for (std::size_t v = 0; v < vertices_.size(); ++v) {
+            const std::uint32_t owner = v < nv ? static_cast<std::uint32_t>(v) : knot_owner(v);  // a knot belongs to its edge's part
+            for (std::uint32_t a = hub_begin_[v]; a < hub_begin_[v + 1]; ++a)
+                if (fixed[a]) held[parts.find(owner)] = 1;
+        }
+        // A part cut off only by unmodelled edges is fixed where it stands (it carries its own load).
+        std::vector<std::uint8_t> whole_held(nv, 0);
+        for (std::size_t v = 0; v < nv; ++v)
+            if (held[parts.find(static_cast<std::uint32_t>(v))]) whole_held[whole.find(static_cast<std::uint32_t>(v))] = 1;
+        for (std::size_t v = 0; v < nv; ++v)
+            if (!held[parts.find(static_cast<std::uint32_t>(v))] && whole_held[whole.find(static_cast<std::uint32_t>(v))]) {
+                for (std::uint32_t a = hub_begin_[v]; a < hub_begin_[v + 1]; ++a) fixed[a] = 1;
+                ++cut_off_fixed_;
+            }
+        for (std::size_t i = nv; i < vertices_.size(); ++i) {  // knots of such parts too
+            const std::uint32_t o = knot_owner(i);
+            if (!held[parts.find(o)] && whole_held[whole.find(o)])
+                for (std::uint32_t a = hub_begin_[i]; a < hub_begin_[i + 1]; ++a) fixed[a] = 1;
+        }
         for (std::size_t a = 0; a < fixed.size(); ++a)
             if (fixed[a])
                 for (int d = 0; d < 3; ++d) supports_.fixed.push_back({static_cast<std::uint32_t>(a), d, 0.0});
-
-        // Every connected part of the graph needs a fixed node.
-        union_find parts(nv);
-        for (const beam_edge& e : edges_) parts.unite(e.a, e.b);
-        std::vector<std::uint8_t> held(nv, 0);
-        for (std::size_t v = 0; v < nv; ++v)
-            for (std::uint32_t a = hub_begin_[v]; a < hub_begin_[v + 1]; ++a)
-                if (fixed[a]) held[parts.find(static_cast<std::uint32_t>(v))] = 1;
         for (std::size_t v = 0; v < nv; ++v) {
             const auto root = parts.find(static_cast<std::uint32_t>(v));
-            if (held[root]) continue;
+            if (held[root] || whole_held[whole.find(static_cast<std::uint32_t>(v))]) continue;
             std::string list;
             std::size_t count = 0;
             for (std::size_t u = 0; u < nv; ++u)
@@ -695,6 +864,25 @@ private:
     std::vector<beam_edge> edges_;
     double width_ = 0;
     fem::mesh mesh_;  ///< under construction; moved into ctx_, whose model() holds the current scales
+    /// A beam: vertices a, b (user vertices or knots) and the user edge it belongs to.
+    struct segment {
+        std::uint32_t a, b, edge;
+    };
+    /// Vertex a of the user edge whose knot is vertex v (v >= user_vertices_).
+    [[nodiscard]] std::uint32_t knot_owner(std::size_t v) const {
+        for (const segment& s : segments_)
+            if (s.b == v) return edges_[s.edge].a;
+        return 0;
+    }
+
+    [[nodiscard]] bool modelled(std::size_t e) const { return edge_segment_begin_[e + 1] > edge_segment_begin_[e]; }
+    std::size_t unmodelled_ = 0, cut_off_fixed_ = 0;
+    static constexpr int max_thinning = 2;  ///< halvings of a folded edge's end thickness (down to 1/4)
+    std::vector<double> vertex_thickness_;   ///< extrusion per vertex (knots: the thinner end's) [mm]
+    std::size_t narrowed_hubs_ = 0;
+    std::size_t user_vertices_ = 0;                   ///< vertices_ beyond this are knots
+    std::vector<segment> segments_;                   ///< one hex8 each, in edge order
+    std::vector<std::uint32_t> edge_segment_begin_;   ///< per edge its first segment (size edges + 1)
     std::vector<std::array<side_nodes, 2>> sides_;
     std::vector<double> hub_radius_;
     std::vector<std::uint32_t> hub_begin_;

@@ -1,0 +1,179 @@
+// Structural optimizer and the loop of Algorithm 1 (structurally-sound-patterns.md §5, §3) on the
+// bunny: connectivity of the result (checked with graph/ components and the mesher, not with the
+// abstract graph the optimizer used), force-profile dependence, determinism, bad input.
+#include <catch2/catch.hpp>
+
+#include <fabsynth/core/parallel.hpp>
+#include <fabsynth/geometry/mesh_topology.hpp>
+#include <fabsynth/graph/components.hpp>
+#include <fabsynth/io/image.hpp>
+#include <fabsynth/io/mesh.hpp>
+#include <fabsynth/surface_pattern.hpp>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+using namespace fabsynth;
+namespace sp = fabsynth::surface_pattern;
+
+namespace {
+
+struct structural_thread_guard {
+    ~structural_thread_guard() { set_num_threads(0); }
+};
+
+/// The bunny (up = +y) at 64^3 on 50 mm with a synthesized pattern, specks removed.
+struct bunny_case {
+    sp::surface_shell shell;
+    sp::shell_pyramid pyr;
+    std::unique_ptr<sp::synthesizer> syn;
+    sp::synthesis_result r;
+    sp::surface_graph gs;
+    double h = 0;
+
+    bunny_case(const std::string& exemplar, double feature_px, std::uint64_t seed, int resolution = 64) {
+        const triangle_mesh bunny = io::read_mesh(std::string(FABSYNTH_DATA_DIR) + "/meshes/bunny_lowres.obj");
+        shell = sp::make_shell(bunny, {.size_mm = 50, .resolution = resolution});
+        pyr = sp::build_shell_pyramid(shell, sp::default_levels(resolution));
+        const sp::exemplar ex =
+            sp::make_exemplar(io::read_png(std::string(FABSYNTH_DATA_DIR) + "/exemplars/" + exemplar), nullptr, {.feature_px = feature_px});
+        syn = std::make_unique<sp::synthesizer>(pyr, ex, sp::synthesis_options{.mm_per_px = 0.25, .up = {0, 1, 0}, .seed = seed});
+        r = syn->synthesize();
+        const sp::shell_level& l0 = pyr.levels[0];
+        h = l0.geometry.spacing.x;
+        (void)sp::remove_specks(l0.geometry, l0.voxels, r.solid, 3 * h);
+        gs = sp::build_surface_graph(l0);
+    }
+    [[nodiscard]] const sp::shell_level& l0() const { return pyr.levels[0]; }
+    [[nodiscard]] sp::structure_options options(double r_pattern_px) const {
+        sp::structure_options o;
+        o.r_pattern_mm = r_pattern_px * 0.25;
+        o.thickness_mm = 2.5 * h;
+        o.target_samples = 300;
+        o.gravity = {0, -1, 0};
+        return o;
+    }
+    /// 26-connected components of the solid shell voxels (graph/ on G_surface).
+    [[nodiscard]] std::size_t solid_pieces(const std::vector<std::uint8_t>& solid) const {
+        return graph::connected_components(gs.graph(), solid).count;
+    }
+};
+
+}  // namespace
+
+TEST_CASE("structure loop: the pattern ends as one piece and prints as one watertight mesh", "[surface_pattern][structure]") {
+    for (const char* name : {"hooks.png", "spots.png"}) {  // spots: separate dots, the paper's Fig. 18 case
+        INFO(name);
+        bunny_case b(name, 5, 3);
+        REQUIRE(b.gs.components.count == 1);
+        const std::size_t before = b.solid_pieces(b.r.solid);
+        INFO("solid pieces before " << before);
+        CHECK(before > 1);
+        std::vector<std::uint8_t> forced;
+        const sp::structure_report rep = sp::optimize_structure(*b.syn, b.r, b.gs, b.options(5), 30, &forced);
+        INFO("iterations " << rep.iterations.size() << ", converged " << rep.converged);
+        CHECK(rep.converged);
+        CHECK(rep.iterations.front().components_before > 1);
+        CHECK(rep.iterations.front().added_connect >= static_cast<std::size_t>(rep.iterations.front().components_before - 1));
+        CHECK(rep.iterations.back().done());
+        CHECK(rep.iterations.back().components_before == 1);
+        // one piece, checked on the voxels with graph/ (not the abstract graph)
+        CHECK(b.solid_pieces(b.r.solid) == 1);
+        // every reinforcement voxel is solid, and there are some
+        REQUIRE(forced.size() == b.r.solid.size());
+        std::size_t nforced = 0;
+        for (std::size_t v = 0; v < forced.size(); ++v) {
+            nforced += forced[v];
+            if (forced[v]) REQUIRE(b.r.solid[v] == 1);
+        }
+        CHECK(nforced == rep.forced_voxels);
+        CHECK(nforced > 0);
+        // the printed solid: thickened, joined at edge contacts, meshed
+        const sp::shell_level& l0 = b.l0();
+        sp::voxel_set thick = sp::thicken_inward(l0.geometry, l0.voxels, l0.normals, b.r.solid, 2.5 * b.h);
+        if (sp::set_components(thick, sp::mesh_connectivity{}).count != sp::set_components(thick).count) (void)sp::join_diagonal_contacts(thick);
+        CHECK(sp::set_components(thick, sp::mesh_connectivity{}).count == 1);
+        const triangle_mesh m = sp::mesh_voxels(thick, 10);
+        const mesh_topology_info topo = analyze_topology(m);
+        CHECK(topo.is_watertight());
+        // surface components: the outer surface plus the small enclosed voids of thin parts
+        // (fabricate.hpp), but only one solid piece (above)
+        CHECK(topo.components >= 1);
+    }
+}
+
+TEST_CASE("structure step: bridges follow the force profile", "[surface_pattern][structure]") {
+    bunny_case b("hooks.png", 5, 4);
+    auto run = [&](vec3 g) {
+        std::vector<std::uint8_t> solid = b.r.solid, reinforcement;
+        sp::structure_options o = b.options(5);
+        o.gravity = g;
+        o.geodesic_factor = 0;  // the force profile alone
+        const sp::structural_step_report rep = sp::structural_step(b.gs, b.l0(), solid, reinforcement, o);
+        CHECK(rep.components_after == 1);
+        CHECK(b.solid_pieces(solid) == 1);
+        return std::make_pair(rep, reinforcement);
+    };
+    const auto [down, bridges_down] = run({0, -1, 0});
+    const auto [side, bridges_side] = run({1, 0, 0});
+    CHECK(down.samples == side.samples);  // same abstract graph: only the profile differs
+    CHECK(down.solid_edges == side.solid_edges);
+    std::size_t differ = 0, total = 0;
+    for (std::size_t v = 0; v < bridges_down.size(); ++v) differ += bridges_down[v] != bridges_side[v], total += bridges_down[v] | bridges_side[v];
+    INFO("bridge voxels differing " << differ << " of " << total);
+    CHECK(differ > total / 10);
+    std::vector<std::uint32_t> ed, es;
+    for (const auto& [e, c] : down.inserted) ed.push_back(e);
+    for (const auto& [e, c] : side.inserted) es.push_back(e);
+    std::sort(ed.begin(), ed.end());
+    std::sort(es.begin(), es.end());
+    CHECK(ed != es);
+}
+
+TEST_CASE("structure step: identical for any thread count", "[surface_pattern][structure]") {
+    structural_thread_guard guard;
+    bunny_case b("giraffe.png", 5, 5);
+    std::vector<std::uint8_t> s1 = b.r.solid, s2 = b.r.solid, f1, f2;
+    set_num_threads(1);
+    const sp::structural_step_report r1 = sp::structural_step(b.gs, b.l0(), s1, f1, b.options(5));
+    set_num_threads(2);
+    const sp::structural_step_report r2 = sp::structural_step(b.gs, b.l0(), s2, f2, b.options(5));
+    CHECK(s1 == s2);
+    CHECK(f1 == f2);
+    CHECK(r1.inserted == r2.inserted);
+    CHECK(r1.max_stress_mpa == r2.max_stress_mpa);
+    CHECK(r1.max_stress_after_mpa == r2.max_stress_after_mpa);
+}
+
+TEST_CASE("structure: bad options and impossible profiles are refused", "[surface_pattern][structure]") {
+    bunny_case b("hooks.png", 5, 6);
+    std::vector<std::uint8_t> solid = b.r.solid, f;
+    auto refuse = [&](auto change) {
+        sp::structure_options o = b.options(5);
+        change(o);
+        std::vector<std::uint8_t> s = solid;
+        CHECK_THROWS_AS(sp::structural_step(b.gs, b.l0(), s, f, o), invalid_input);
+    };
+    refuse([](sp::structure_options& o) { o.r_pattern_mm = 0; });
+    refuse([](sp::structure_options& o) { o.thickness_mm = std::numeric_limits<double>::quiet_NaN(); });
+    refuse([](sp::structure_options& o) { o.gravity = vec3(0.0); });
+    refuse([](sp::structure_options& o) { o.safety_factor = -1; });
+    refuse([](sp::structure_options& o) { o.edges_per_solve = 0; });
+    refuse([](sp::structure_options& o) { o.support_fraction = 2; });
+    std::vector<std::uint8_t> short_solid(3, 1);
+    CHECK_THROWS_AS(sp::structural_step(b.gs, b.l0(), short_solid, f, b.options(5)), invalid_input);
+    CHECK_THROWS_AS(sp::optimize_structure(*b.syn, b.r, b.gs, b.options(5), 0), invalid_input);
+    CHECK_THROWS_AS(sp::print_material::named("wood"), invalid_input);
+    // a force profile that fixes nothing cannot carry its loads
+    sp::structure_options o = b.options(5);
+    o.fixed = [](const vec3&) { return false; };
+    CHECK_THROWS_AS(sp::structural_step(b.gs, b.l0(), solid, f, o), no_solution);
+    // a user profile: held at the top instead of the bottom (hanging), still one piece
+    o.fixed = [&](const vec3& p) { return p.y > b.l0().geometry.origin.y + 0.85 * b.l0().geometry.spacing.y * b.l0().geometry.dims.y; };
+    o.load = [](const vec3&) { return vec3(0, -0.05, 0); };
+    std::vector<std::uint8_t> s = b.r.solid;
+    const sp::structural_step_report rep = sp::structural_step(b.gs, b.l0(), s, f, o);
+    CHECK(rep.components_after == 1);
+}
