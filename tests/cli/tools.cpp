@@ -347,6 +347,12 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
         for (auto& e : extra) a.push_back(e);
         return a;
     };
+    auto structural = [&](std::vector<std::string> extra) {  // the full loop of Algorithm 1
+        std::vector<std::string> a = {bunny, "--exemplar", mask, "--size", "40", "--thickness", "1.5", "--feature", "4", "-r", "48",
+                                      "--gravity", "0", "-1", "0", "-o", out};
+        for (auto& e : extra) a.push_back(e);
+        return a;
+    };
     auto with = [&](std::vector<std::string> a, const std::string& key, const std::string& value) {
         for (std::size_t i = 0; i + 1 < a.size(); ++i)
             if (a[i] == key) a[i + 1] = value;
@@ -369,7 +375,10 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
              {"feature zero", with(args({}), "--feature", "0"), 2, "--feature"},
              {"feature negative", with(args({}), "--feature", "-3"), 2, "--feature"},
              {"grid too large for memory", with(with(args({"--max-memory", "0.5"}), "-r", "4096"), "--size", "100"), 2, "GiB"},
-             {"structural mode not built", {bunny, "--exemplar", mask, "--size", "40", "--thickness", "1.5", "--feature", "4", "-o", out}, 2, "--no-structure"},
+             {"stages without the optimizer", args({"--stages"}), 2, "--no-structure"},
+             {"unknown material", structural({"--material", "wood"}), 2, "material 'wood'"},
+             {"zero gravity", structural({"--gravity", "0", "0", "0"}), 2, "--gravity"},
+             {"validation too large for memory", structural({"--validate", "--max-memory", "0.001"}), 2, "GiB"},
              {"NaN up", args({"--up", "nan", "0", "1"}), 2, "up"},
          })
         check_case("surface_patterns", c);
@@ -404,4 +413,46 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
         return r;
     };
     CHECK(without_times(json::parse(slurp(fs::path(out) / "report.json"))) == without_times(report));
+}
+
+TEST_CASE("surface_patterns with the structural loop: one piece, stages, validation, the same files for 1 and 2 threads",
+          "[cli][surface_patterns]") {
+    const std::string out = (work_dir / "sp_structure").string();
+    fs::remove_all(out);
+    const std::vector<std::string> a = {(data_dir / "meshes/bunny_lowres.obj").string(), "--exemplar", (data_dir / "exemplars/hooks.png").string(),
+                                        "--size", "40", "--thickness", "1.5", "--feature", "4", "-r", "48", "--gravity", "0", "-1", "0",
+                                        "--stages", "--validate", "-o", out};
+    auto with_flag = [&](const char* f) {
+        std::vector<std::string> b = a;
+        b.push_back(f);
+        return b;
+    };
+    const result one = run("surface_patterns", with_flag("--json"), 1);
+    INFO(one.err);
+    REQUIRE(one.code == 0);
+    const json j = json::parse(one.out);
+    CHECK(j.at("converged") == true);
+    CHECK(j.at("components_26") == 1);
+    CHECK(j.at("watertight") == true);
+    const json report = json::parse(slurp(fs::path(out) / "report.json"));
+    const json& its = report.at("structural").at("iterations");
+    REQUIRE(its.size() >= 1);
+    CHECK(its.front().at("components_before").get<int>() > 1);  // the synthesized hooks are many pieces
+    CHECK(its.back().at("components_before") == 1);
+    for (const char* stage : {"connected", "forces", "forces_geodesic"})
+        for (const char* load : {"expected", "unexpected"}) {
+            INFO(stage << " " << load);
+            CHECK(report.at("validation").at(stage).at(load).at("p99_pa").get<double>() > 0);
+        }
+    std::map<std::string, std::string> first;
+    for (const char* f : {"pattern.stl", "shell.vtk", "solid.vtk", "solid_connected.vtk", "solid_forces.vtk", "preview.png"})
+        first[f] = slurp(fs::path(out) / f);
+    // reinforcement voxels (state 3) are in the shell: the VTK holds the states as bytes after the header
+    CHECK(first["shell.vtk"].find(static_cast<char>(3)) != std::string::npos);
+    const result two = run("surface_patterns", with_flag("--quiet"), 2);
+    REQUIRE(two.code == 0);
+    for (const auto& [f, bytes] : first) {
+        INFO(f);
+        CHECK(slurp(fs::path(out) / f) == bytes);
+    }
 }

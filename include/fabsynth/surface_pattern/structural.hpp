@@ -46,8 +46,15 @@
 ///    stress threshold; the two only mean something together. Here the force is a physical total,
 ///    design_load_n = 10 N (about 1 kg, 20x the self-weight of the bunny shell of §6.3) over all
 ///    vertices, and the threshold is the printing material's tensile strength / safety_factor (2).
-///  - Beam width: 2 r_pattern (a dilated bridge is that wide); hubs with more neighbours than that
-///    width allows get narrower sides (beam_model.hpp). An edge no single hex can follow (across
+///  - Beam width: beam_model's rule, 0.2 x the median edge length (at most 0.6 x the shortest), not
+///    the 2 r_pattern of a dilated bridge: with ~1000 samples the edges are only 1-2 bridge widths
+///    long, and beams that wide leave hubs so crowded that most beams are short, twisted elements
+///    whose stresses are artefacts (tens of GPa on the bunny). Hubs with more neighbours than the
+///    width allows get narrower sides (beam_model.hpp). The pattern's features and bridges are
+///    2 r_pattern wide, so the scores are scaled by w / (2 r_pattern) (when w is narrower) before
+///    they are compared with the allowable stress: to first order the axial and out-of-plane
+///    bending stresses of a beam scale with 1 / width (in-plane bending with 1 / width^2, so this
+///    is conservative there). An edge no single hex can follow (across
 ///    a thin part) is split at the voxel half-way along its path.
 ///  - Specks: the abstract graph gives every solid component a sample, so tiny islands left by
 ///    the synthesis would be bridged; remove them before (fabricate.hpp remove_specks).
@@ -122,7 +129,7 @@ struct structure_options {
     bool force_criterion = true;      ///< false: connect only, then the geodesic criterion (Table 3 stages)
     int edges_per_solve = 8;          ///< insertions per FEM solve (connect, force), >= 1
     int max_force_solves = 40;        ///< bound on the force phase's solves per step, >= 0
-    double beam_width_mm = 0;         ///< 0 = 2 r_pattern
+    double beam_width_mm = 0;         ///< 0 = beam_model's rule (0.2 x median edge length, <= 0.6 x shortest)
     double rho_min = 1e-4;            ///< stiffness of empty beams (beam_model.hpp)
     fem::solve_options solver = default_beam_solver();
 
@@ -221,7 +228,7 @@ struct piece_models {
         edges_of[p].push_back(static_cast<std::uint32_t>(e));
     }
     const double load_per_vertex = ns ? opt.design_load_n / static_cast<double>(ns) : 0.0;
-    const double width = opt.beam_width_mm > 0 ? opt.beam_width_mm : 2 * opt.r_pattern_mm;
+    const double width = opt.beam_width_mm;  // 0: beam_model's own rule
     pm.pieces.resize(comps.size());
     for (std::size_t p = 0; p < comps.size(); ++p) {
         piece_models::piece& P = pm.pieces[p];
@@ -268,17 +275,21 @@ struct piece_models {
         pm.narrowed += P.model->statistics().narrowed_hubs;
     }
     pm.width_mm = width;
+    for (const piece_models::piece& P : pm.pieces)
+        if (P.model) pm.width_mm = std::max(pm.width_mm, P.model->beam_width());
     return pm;
 }
 
 /// Solves every piece; returns the score of every abstract edge [MPa].
-[[nodiscard]] inline std::vector<double> solve_pieces(piece_models& pm, std::size_t num_edges, structural_step_report& rep) {
+[[nodiscard]] inline std::vector<double> solve_pieces(piece_models& pm, std::size_t num_edges, double feature_width_mm,
+                                                 structural_step_report& rep) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<double> score(num_edges, 0.0);
     for (piece_models::piece& P : pm.pieces) {
         if (!P.model) continue;
         const std::vector<double> s = P.model->solve();
-        for (std::size_t i = 0; i < s.size(); ++i) score[P.edge[i]] = s[i];
+        const double to_feature = std::min(1.0, P.model->beam_width() / feature_width_mm);  // see the file comment
+        for (std::size_t i = 0; i < s.size(); ++i) score[P.edge[i]] = s[i] * to_feature;
     }
     ++rep.solves;
     rep.solve_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -313,12 +324,14 @@ std::size_t insert_batch(std::vector<std::uint32_t> candidates, const std::vecto
 
 /// One STRUCTURALOPTIM step (see the file comment) on `solid` (one 0/1 flag per level-0 shell
 /// voxel, updated: bridges become 1). `reinforcement` (resized to the shell) gets 1 on the voxels
-/// of this step's dilated bridges (also those that were solid already). Throws invalid_input for
+/// of this step's dilated bridges (also those that were solid already); `added` (optional, sized
+/// to the shell if smaller) gets 1 where a bridge made an empty voxel solid. Throws invalid_input for
 /// bad options or sizes, no_solution when a piece of the mesh has no support under the force
 /// profile, solver_error when the FEM fails.
 template <progress_callback P = no_progress>
 structural_step_report structural_step(const surface_graph& gs, const shell_level& l0, std::vector<std::uint8_t>& solid,
-                                       std::vector<std::uint8_t>& reinforcement, const structure_options& opt, P&& progress = {}) {
+                                       std::vector<std::uint8_t>& reinforcement, const structure_options& opt, P&& progress = {},
+                                       std::vector<std::uint8_t>* added = nullptr) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     opt.validate();
@@ -326,6 +339,7 @@ structural_step_report structural_step(const surface_graph& gs, const shell_leve
     structural_step_report rep;
     rep.allowable_stress_mpa = opt.allowable_stress_mpa();
     reinforcement.assign(l0.size(), 0);
+    if (added && added->size() != l0.size()) added->assign(l0.size(), 0);
 
     // 1. G_abstract and the beam models
     report_progress(progress, 0.0, "abstract graph");
@@ -367,7 +381,7 @@ structural_step_report structural_step(const surface_graph& gs, const shell_leve
     };
 
     // 2. connect
-    std::vector<double> score = detail::solve_pieces(pm, ag.edges.size(), rep);
+    std::vector<double> score = detail::solve_pieces(pm, ag.edges.size(), 2 * opt.r_pattern_mm, rep);
     rep.max_stress_mpa = *std::max_element(score.begin(), score.end());
     for (;;) {
         const graph::graph_components cc = solid_components(ag, state);
@@ -386,7 +400,7 @@ structural_step_report structural_step(const surface_graph& gs, const shell_leve
             return true;
         });
         rep.added_connect += n;
-        score = detail::solve_pieces(pm, ag.edges.size(), rep);
+        score = detail::solve_pieces(pm, ag.edges.size(), 2 * opt.r_pattern_mm, rep);
     }
 
     // 3. force profile
@@ -407,7 +421,7 @@ structural_step_report structural_step(const surface_graph& gs, const shell_leve
                 insert(e, bridge_criterion::force);
                 return true;
             });
-            score = detail::solve_pieces(pm, ag.edges.size(), rep);
+            score = detail::solve_pieces(pm, ag.edges.size(), 2 * opt.r_pattern_mm, rep);
         }
     }
     rep.max_stress_after_mpa = *std::max_element(score.begin(), score.end());
@@ -460,7 +474,10 @@ structural_step_report structural_step(const surface_graph& gs, const shell_leve
         for (std::size_t v = 0; v < l0.size(); ++v)
             if (near.distance[v] <= opt.r_pattern_mm) {
                 reinforcement[v] = 1;
-                if (!solid[v]) solid[v] = 1, ++rep.reinforced_voxels;
+                if (!solid[v]) {
+                    solid[v] = 1, ++rep.reinforced_voxels;
+                    if (added) (*added)[v] = 1;
+                }
             }
     }
     rep.seconds = std::chrono::duration<double>(clock::now() - t0).count();
@@ -471,16 +488,19 @@ structural_step_report structural_step(const surface_graph& gs, const shell_leve
 /// Algorithm 1 after SYNTHESIZE (see the file comment): structural steps and constrained
 /// resyntheses of `r` (from syn.synthesize()) until a step inserts nothing or max_iterations steps
 /// ran. r.solid ends connected per piece of the mesh; `forced` (optional) gets the reinforcement
-/// voxels (state 3). Throws invalid_input for max_iterations < 1 and what structural_step throws.
+/// voxels (every voxel of a dilated bridge, kept solid by the resyntheses) and `added` (optional)
+/// those of them that were empty when their bridge was laid (state 3). Throws invalid_input for max_iterations < 1 and what structural_step throws.
 template <progress_callback P = no_progress>
 structure_report optimize_structure(const synthesizer& syn, synthesis_result& r, const surface_graph& gs, const structure_options& opt,
-                                    int max_iterations = 30, std::vector<std::uint8_t>* forced = nullptr, P&& progress = {}) {
+                                    int max_iterations = 30, std::vector<std::uint8_t>* forced = nullptr, P&& progress = {},
+                                    std::vector<std::uint8_t>* added = nullptr) {
     using clock = std::chrono::steady_clock;
     if (max_iterations < 1) throw invalid_input("structure: max_iterations must be >= 1, got " + std::to_string(max_iterations));
     const shell_level& l0 = syn.pyramid().levels[0];
     if (r.solid.size() != l0.size()) throw invalid_input("structure: the synthesis result does not belong to this synthesizer's shell");
     structure_report rep;
     std::vector<std::uint8_t> all_forced(l0.size(), 0), step_forced;
+    if (added) added->assign(l0.size(), 0);
     const std::vector<std::uint8_t> allowed(l0.size(), 1);
     const double r_pattern_voxels = opt.r_pattern_mm / l0.geometry.spacing.x;
     for (int it = 1; it <= max_iterations; ++it) {
@@ -489,7 +509,7 @@ structure_report optimize_structure(const synthesizer& syn, synthesis_result& r,
         auto sub = [&](double f, std::string_view stage) {
             report_progress(progress, base + 0.5 * f / max_iterations, "iteration " + std::to_string(it) + ": " + std::string(stage));
         };
-        rep.iterations.push_back(structural_step(gs, l0, r.solid, step_forced, opt, sub));
+        rep.iterations.push_back(structural_step(gs, l0, r.solid, step_forced, opt, sub, added));
         rep.structure_seconds += std::chrono::duration<double>(clock::now() - ts).count();
         for (std::size_t v = 0; v < l0.size(); ++v) all_forced[v] |= step_forced[v];
         if (rep.iterations.back().done()) {
