@@ -246,7 +246,6 @@ int main(int argc, char** argv) {
         double t_structure = 0, t_resynthesis = 0;
         sp::thin_feature_report thin_rep;
         if (!no_structure) {
-            t = clock_type::now();
             const sp::surface_graph gs = sp::build_surface_graph(l0);
             sp::structure_options so;
             so.r_pattern_mm = feature * syn.options().mm_per_px;
@@ -279,7 +278,6 @@ int main(int argc, char** argv) {
             thin_rep = finish(result, &thin);
             t_structure = structure.structure_seconds;
             t_resynthesis = structure.resynthesis_seconds;
-            (void)since(t);
         }
         for (std::size_t v = 0; v < l0.size(); ++v)
             state[v] = !result.solid[v] ? 1 : thin[v] ? 4 : added[v] ? 3 : 2;
