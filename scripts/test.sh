@@ -20,7 +20,8 @@ echo "== Fuzzers (${FABSYNTH_FUZZ_SECONDS:=20} s each)"
 bash scripts/fuzz.sh "$FABSYNTH_FUZZ_SECONDS"
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
-cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFABSYNTH_SANITIZE=ON \
+# -O1 -g1 (line tables): what the sanitizers need for useful reports, at half the compile time of -O2 -g
+cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DFABSYNTH_SANITIZE=ON \
   -DFABSYNTH_BUILD_EXAMPLES=OFF -DFABSYNTH_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build/asan -j "$jobs"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1

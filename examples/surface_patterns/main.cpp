@@ -123,7 +123,9 @@ nlohmann::ordered_json structure_json(const sp::structure_report& rep) {
             {"added_connect", it.added_connect}, {"added_force", it.added_force}, {"added_geodesic", it.added_geodesic},
             {"max_stress_mpa", it.max_stress_mpa}, {"max_stress_after_mpa", it.max_stress_after_mpa},
             {"allowable_stress_mpa", it.allowable_stress_mpa}, {"force_bound_hit", it.force_bound_hit},
-            {"geodesic_threshold_mm", it.geodesic_threshold_mm}, {"solves", it.solves}, {"beam_width_mm", it.beam_width_mm},
+            {"geodesic_threshold_mm", it.geodesic_threshold_mm},
+            {"max_geodesic_mm", it.max_geodesic_mm},  // null (inf) while a piece is cut off
+            {"solves", it.solves}, {"beam_width_mm", it.beam_width_mm},
             {"beam_knots", it.beam_knots}, {"reinforced_voxels", it.reinforced_voxels},
             {"seconds", it.seconds}, {"solve_seconds", it.solve_seconds}};
         if (k < rep.resyntheses.size()) {

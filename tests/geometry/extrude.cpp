@@ -2,6 +2,8 @@
 // refinement; the curve extrusion of §6.3 with seam welding on closed curves.
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -19,7 +21,7 @@ using namespace fabsynth;
 using Catch::Matchers::Contains;
 
 namespace {
-ring2 rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+using fabsynth::test::rect_ring;
 
 // Independent watertightness check: every undirected edge in exactly two faces, traversed once in
 // each direction.
@@ -34,7 +36,7 @@ bool closed_and_oriented(const triangle_mesh& m) {
 }  // namespace
 
 TEST_CASE("extrude: slabs are watertight, outward, with volume = area x thickness", "[geometry][extrude]") {
-    const polygon_with_holes p{rect(0, 0, 10, 6), {rect(2, 2, 4, 4), rect(6, 1, 8, 5)}};
+    const polygon_with_holes p{rect_ring(0, 0, 10, 6), {rect_ring(2, 2, 4, 4), rect_ring(6, 1, 8, 5)}};
     const triangle_mesh m = extrude(triangulate(p), 1.5);
     const auto topo = analyze_topology(m);
     CHECK(topo.is_watertight());
@@ -48,7 +50,7 @@ TEST_CASE("extrude: slabs are watertight, outward, with volume = area x thicknes
     CHECK_THROWS_AS(extrude(triangulate(p), 0.0), invalid_input);
     CHECK_THROWS_AS(extrude(triangulate(p), std::nan("")), invalid_input);
     // a doubled triangle is an overlap
-    planar_triangulation bad = triangulate(polygon_with_holes{rect(0, 0, 1, 1), {}});
+    planar_triangulation bad = triangulate(polygon_with_holes{rect_ring(0, 0, 1, 1), {}});
     bad.triangles.push_back(bad.triangles.front());
     CHECK_THROWS_WITH(extrude(bad, 1.0), Contains("used twice"));
 }
@@ -73,7 +75,7 @@ TEST_CASE("extrude: refinement bounds the x-extent of every edge and stays confo
 }
 
 TEST_CASE("extrude_along_curve: straight line = plain extrusion", "[geometry][extrude]") {
-    const std::vector<polygon_with_holes> band{{rect(0, -2, 30, 2), {rect(5, -1, 25, 1)}}};
+    const std::vector<polygon_with_holes> band{{rect_ring(0, -2, 30, 2), {rect_ring(5, -1, 25, 1)}}};
     const triangle_mesh m = extrude_along_curve(band, planar_curve::line(30), {.thickness = 2.0});
     CHECK(analyze_topology(m).is_watertight());
     CHECK(signed_volume(m) == Approx(area(band) * 2.0).epsilon(1e-12));
@@ -83,7 +85,7 @@ TEST_CASE("extrude_along_curve: closed circle, the seam is welded", "[geometry][
     const double R = 20.0, L = 2 * std::numbers::pi * R, t = 1.0;
     const planar_curve c = planar_curve::circle(R);
     SECTION("a full annulus is one closed torus-like solid") {
-        const std::vector<polygon_with_holes> band{{rect(0, -2, L, 2), {}}};
+        const std::vector<polygon_with_holes> band{{rect_ring(0, -2, L, 2), {}}};
         const triangle_mesh m = extrude_along_curve(band, c, {.thickness = t, .chord_tolerance = 1e-3});
         const auto topo = analyze_topology(m);
         CHECK(topo.is_watertight());
@@ -111,8 +113,8 @@ TEST_CASE("extrude_along_curve: closed circle, the seam is welded", "[geometry][
         // vertex on its cut (conform_seam inserts it on the other side), plus a hole in the bar
         const std::vector<polygon_with_holes> band{
             {{{0, -1}, {3, -1}, {3, 1}, {0, 1}, {0, 0.25}}, {}},
-            {rect(L - 4, -1, L, 1), {rect(L - 3, -0.5, L - 1, 0.5)}},
-            {rect(10, -1, 20, 1), {}}};
+            {rect_ring(L - 4, -1, L, 1), {rect_ring(L - 3, -0.5, L - 1, 0.5)}},
+            {rect_ring(10, -1, 20, 1), {}}};
         const triangle_mesh m = extrude_along_curve(band, c, {.thickness = t});
         const auto topo = analyze_topology(m);
         CHECK(topo.is_watertight());
@@ -129,13 +131,13 @@ TEST_CASE("extrude_along_curve: closed circle, the seam is welded", "[geometry][
         CHECK(topo.components == 2);
     }
     SECTION("cuts that do not match are rejected") {
-        const std::vector<polygon_with_holes> band{{rect(0, -1, 3, 1), {}}, {rect(L - 4, -1.5, L, 1.5), {}}};
+        const std::vector<polygon_with_holes> band{{rect_ring(0, -1, 3, 1), {}}, {rect_ring(L - 4, -1.5, L, 1.5), {}}};
         CHECK_THROWS_WITH(extrude_along_curve(band, c, {.thickness = t}), Contains("no partner"));
     }
     SECTION("bad input") {
-        CHECK_THROWS_WITH(extrude_along_curve({{rect(0, -1, L + 1, 1), {}}}, c), Contains("outside"));
-        CHECK_THROWS_WITH(extrude_along_curve({{rect(0, -R, 5, 1), {}}}, c), Contains("radius of curvature"));
-        CHECK_THROWS_AS(extrude_along_curve({{rect(0, -1, 5, 1), {}}}, c, {.thickness = -1}), invalid_input);
+        CHECK_THROWS_WITH(extrude_along_curve({{rect_ring(0, -1, L + 1, 1), {}}}, c), Contains("outside"));
+        CHECK_THROWS_WITH(extrude_along_curve({{rect_ring(0, -R, 5, 1), {}}}, c), Contains("radius of curvature"));
+        CHECK_THROWS_AS(extrude_along_curve({{rect_ring(0, -1, 5, 1), {}}}, c, {.thickness = -1}), invalid_input);
     }
 }
 

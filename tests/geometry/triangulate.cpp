@@ -8,6 +8,8 @@
 // Centroids inside the polygon are checked too (a cheap independent point-location test).
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -79,17 +81,17 @@ void check_triangulation(const polygon_with_holes& input, const planar_triangula
     CHECK(std::abs(sum - area(poly)) <= 1e-9 * area(poly));
 }
 
-ring2 rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+using fabsynth::test::rect_ring;
 
 }  // namespace
 
 TEST_CASE("triangulate: convex, concave and collinear rings", "[geometry][triangulate]") {
     SECTION("square") {
-        polygon_with_holes p{rect(0, 0, 1, 1), {}};
+        polygon_with_holes p{rect_ring(0, 0, 1, 1), {}};
         check_triangulation(p, triangulate(p));
     }
     SECTION("clockwise input gives counter-clockwise triangles") {
-        ring2 r = rect(0, 0, 2, 1);
+        ring2 r = rect_ring(0, 0, 2, 1);
         orient(r, false);
         polygon_with_holes p{r, {}};
         check_triangulation(p, triangulate(p));
@@ -129,21 +131,21 @@ TEST_CASE("triangulate: convex, concave and collinear rings", "[geometry][triang
 
 TEST_CASE("triangulate: holes, including holes in line with each other and with outer vertices", "[geometry][triangulate]") {
     SECTION("one hole") {
-        polygon_with_holes p{rect(0, 0, 4, 4), {rect(1, 1, 3, 3)}};
+        polygon_with_holes p{rect_ring(0, 0, 4, 4), {rect_ring(1, 1, 3, 3)}};
         check_triangulation(p, triangulate(p));
     }
     SECTION("grid of holes sharing x and y extents") {
-        polygon_with_holes p{rect(0, 0, 11, 11), {}};
+        polygon_with_holes p{rect_ring(0, 0, 11, 11), {}};
         for (int i = 0; i < 5; ++i)
-            for (int j = 0; j < 5; ++j) p.holes.push_back(rect(1 + 2 * i, 1 + 2 * j, 2 + 2 * i, 2 + 2 * j));
+            for (int j = 0; j < 5; ++j) p.holes.push_back(rect_ring(1 + 2 * i, 1 + 2 * j, 2 + 2 * i, 2 + 2 * j));
         check_triangulation(p, triangulate(p));
     }
     SECTION("holes whose rightmost vertex faces a reflex outer vertex") {
-        polygon_with_holes p{{{0, 0}, {10, 0}, {10, 10}, {5, 5.5}, {0, 10}}, {rect(1, 4, 3, 6), rect(6, 1, 8, 3)}};
+        polygon_with_holes p{{{0, 0}, {10, 0}, {10, 10}, {5, 5.5}, {0, 10}}, {rect_ring(1, 4, 3, 6), rect_ring(6, 1, 8, 3)}};
         check_triangulation(p, triangulate(p));
     }
     SECTION("a hole touching the outer ring at a vertex (as Clipper may return it)") {
-        polygon_with_holes p{{{0, 0}, {5, 0}, {10, 0}, {10, 10}, {0, 10}}, {{{5, 0}, {4, 2}, {6, 2}}, rect(6, 5, 8, 7)}};
+        polygon_with_holes p{{{0, 0}, {5, 0}, {10, 0}, {10, 10}, {0, 10}}, {{{5, 0}, {4, 2}, {6, 2}}, rect_ring(6, 5, 8, 7)}};
         check_triangulation(p, triangulate(p));
         polygon_with_holes q{{{0, 0}, {10, 0}, {10, 10}, {0, 10}}, {{{10, 5}, {8, 4}, {8, 6}}}};  // touching the right side
         q.outer.insert(q.outer.begin() + 2, vec2{10, 5});
@@ -181,7 +183,7 @@ TEST_CASE("triangulate: every polygon of every bundled vector exemplar", "[geome
 TEST_CASE("triangulate: bad input is rejected with a message", "[geometry][triangulate]") {
     CHECK_THROWS_AS(triangulate(polygon_with_holes{{{0, 0}, {1, 0}}, {}}), invalid_input);
     CHECK_THROWS_AS(triangulate(polygon_with_holes{{{0, 0}, {1, 0}, {0, std::nan("")}}, {}}), invalid_input);
-    CHECK_THROWS_AS(triangulate(polygon_with_holes{rect(0, 0, 1, 1), {{{0.2, 0.2}, {0.4, 0.2}}}}), invalid_input);
+    CHECK_THROWS_AS(triangulate(polygon_with_holes{rect_ring(0, 0, 1, 1), {{{0.2, 0.2}, {0.4, 0.2}}}}), invalid_input);
     // a "hole" outside the outer ring has no bridge
-    CHECK_THROWS_AS(triangulate(polygon_with_holes{rect(0, 0, 1, 1), {rect(5, 5, 6, 6)}}), solver_error);
+    CHECK_THROWS_AS(triangulate(polygon_with_holes{rect_ring(0, 0, 1, 1), {rect_ring(5, 5, 6, 6)}}), solver_error);
 }

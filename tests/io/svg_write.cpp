@@ -11,21 +11,18 @@
 #include "fabsynth/core/rng.hpp"
 #include "fabsynth/geometry/polygon.hpp"
 #include "fabsynth/io/svg.hpp"
+#include "io/io_test_util.hpp"
 
 using fabsynth::vec2;
 namespace fio = fabsynth::io;
 
+using io_test::slurp;
+
 namespace {
-std::filesystem::path tmp_dir() {
-    std::filesystem::path d = std::filesystem::path(FABSYNTH_TEST_TMP) / "svg";
+std::filesystem::path svg_dir() {
+    const std::filesystem::path d = io_test::tmp_dir() / "svg";
     std::filesystem::create_directories(d);
     return d;
-}
-std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 }  // namespace
 
@@ -68,12 +65,12 @@ TEST_CASE("svg: write then read back is exact for hand-made documents", "[io][sv
     const auto back = fio::parse_svg(text, "roundtrip.svg");
     CHECK(back == doc);
     // Through a file, too; writing the read-back document gives identical bytes.
-    const auto path = tmp_dir() / "roundtrip.svg";
+    const auto path = svg_dir() / "roundtrip.svg";
     fio::write_svg(path, doc);
     const auto back2 = fio::read_svg(path);
     CHECK(back2 == doc);
     CHECK(slurp(path) == text);
-    for (const auto& e : std::filesystem::directory_iterator(tmp_dir()))  // no temporary left behind
+    for (const auto& e : std::filesystem::directory_iterator(svg_dir()))  // no temporary left behind
         CHECK(e.path().filename().string().find("tmp") == std::string::npos);
     // Signed zero survives (operator== would not notice).
     CHECK(std::signbit(back.shapes[0].subpaths[0][1].x));
@@ -120,7 +117,7 @@ TEST_CASE("svg: writer rejects documents it cannot represent", "[io][svg]") {
     CHECK_THROWS_AS(fio::to_svg_string(doc), fabsynth::invalid_input);
     doc.width_unit = "";
     CHECK_NOTHROW(fio::to_svg_string(doc));
-    CHECK_THROWS_AS(fio::write_svg(tmp_dir() / "no_such_dir" / "x.svg", doc), fabsynth::io_error);
+    CHECK_THROWS_AS(fio::write_svg(svg_dir() / "no_such_dir" / "x.svg", doc), fabsynth::io_error);
 }
 
 TEST_CASE("svg: shapes built from polygons and polylines", "[io][svg]") {

@@ -2,6 +2,8 @@
 // greedy) are brute force written here; they share no code with the header.
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -75,9 +77,6 @@ std::vector<std::size_t> all_indices(std::size_t n) {
     return v;
 }
 
-struct thread_guard {
-    ~thread_guard() { fabsynth::set_num_threads(0); }
-};
 
 }  // namespace
 
@@ -117,7 +116,7 @@ TEST_CASE("poisson_disk in 2D with float points, subset and mask", "[sampling][p
 }
 
 TEST_CASE("poisson_disk gives identical index sets for 1, 2 and 3 threads", "[sampling][poisson][parallel]") {
-    thread_guard guard;
+    fabsynth::test::thread_count_guard guard;
     const auto pts = random_points<vec3>(60000, 3);
     std::vector<std::vector<std::size_t>> runs;
     for (unsigned t : {1u, 2u, 3u}) {

@@ -1,6 +1,6 @@
 #pragma once
 // A bundled vector exemplar (data/vector/FILE) in band coordinates: u from 0, v centred on 0.
-// Shared by the band-map and extrusion tests.
+// Shared by the band-map, extrusion, piece and synthesis tests.
 #include <string>
 #include <vector>
 
@@ -9,6 +9,15 @@
 #include "fabsynth/vector_pattern/exemplar.hpp"
 
 namespace fabsynth::test {
+
+/// The bundled band exemplars (data/vector/).
+inline constexpr const char* bundled_vector_files[] = {"lace_scallop.svg", "greek_key.svg", "pearls.svg", "vine.svg",
+                                                       "quatrefoil.svg",   "hearts.svg",    "zigzag.svg"};
+
+/// A bundled band exemplar as read by exemplar_from_svg.
+inline vector_pattern::exemplar load_vector_exemplar(const std::string& file) {
+    return vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + file));
+}
 
 inline std::vector<polygon_with_holes> vector_band(const std::string& file, double* width = nullptr) {
     const auto ex = vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + file));

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <fabsynth/core/parallel.hpp>
 #include <fabsynth/core/rng.hpp>
 #include <fabsynth/graph/components.hpp>
@@ -23,11 +25,6 @@ using namespace fabsynth;
 namespace sp = fabsynth::surface_pattern;
 
 namespace {
-
-struct thread_guard {
-    unsigned saved = num_threads();
-    ~thread_guard() { set_num_threads(saved); }
-};
 
 sp::shell_pyramid bunny_pyramid() {
     const sp::surface_shell s =
@@ -288,7 +285,7 @@ TEST_CASE("abstract graph on two disjoint spheres: no edge crosses, an all-empty
 }
 
 TEST_CASE("abstract graph is identical for 1 and 2 threads", "[surface_pattern][abstract_graph]") {
-    thread_guard guard;
+    test::thread_count_guard guard;
     const sp::shell_pyramid pyr = bunny_pyramid();
     const sp::shell_level& l0 = pyr.levels[0];
     const std::vector<std::uint8_t> solid = blobs(l0, 11, 60, 2.0);

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <fabsynth/core/parallel.hpp>
 #include <fabsynth/fem/stress.hpp>
 #include <fabsynth/surface_pattern/beam_model.hpp>
@@ -18,9 +20,6 @@ namespace sp = fabsynth::surface_pattern;
 namespace {
 
 /// Restores the thread setting on scope exit.
-struct beam_thread_guard {
-    ~beam_thread_guard() { set_num_threads(0); }
-};
 
 /// Vertical column of n vertices at z = 0, 10, ... on a wall with normal +x, edges (i, i+1).
 std::pair<std::vector<sp::beam_vertex>, std::vector<sp::beam_edge>> column(int n, double spacing = 10.0) {
@@ -237,7 +236,7 @@ TEST_CASE("beam_model: changing edge states reuses the analysis and matches a fr
 }
 
 TEST_CASE("beam_model: curved graphs build, balance their loads and are thread-count independent", "[surface_pattern][beam]") {
-    beam_thread_guard guard;
+    test::thread_count_guard guard;
     auto [v, e] = fibonacci_sphere(120, 20.0, 6);
     std::vector<double> result[2];
     for (unsigned t : {1u, 2u}) {

@@ -3,6 +3,8 @@
 // abstract graph the optimizer used), force-profile dependence, determinism, bad input.
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <fabsynth/core/parallel.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/graph/components.hpp>
@@ -11,6 +13,7 @@
 #include <fabsynth/surface_pattern.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,10 +22,6 @@ using namespace fabsynth;
 namespace sp = fabsynth::surface_pattern;
 
 namespace {
-
-struct structural_thread_guard {
-    ~structural_thread_guard() { set_num_threads(0); }
-};
 
 /// The bunny (up = +y) at 64^3 on 50 mm with a synthesized pattern, specks removed.
 struct bunny_case {
@@ -132,8 +131,42 @@ TEST_CASE("structure step: bridges follow the force profile", "[surface_pattern]
     CHECK(ed != es);
 }
 
+TEST_CASE("structure step: the geodesic criterion bridges edges whose ends are far apart in the pattern", "[surface_pattern][structure]") {
+    bunny_case b("hooks.png", 5, 7);
+    auto run = [&](double factor, std::vector<std::uint8_t>& solid) {
+        std::vector<std::uint8_t> reinforcement;
+        sp::structure_options o = b.options(5);
+        o.force_criterion = false;  // connect, then the geodesic criterion alone (§5.2.2)
+        o.geodesic_factor = factor;
+        return sp::structural_step(b.gs, b.l0(), solid, reinforcement, o);
+    };
+    // a threshold no detour reaches: connection only, and the longest detour of the connected pattern
+    std::vector<std::uint8_t> connected = b.r.solid;
+    const sp::structural_step_report off = run(1e6, connected);
+    CHECK(off.added_geodesic == 0);
+    CHECK(off.components_after == 1);
+    REQUIRE(std::isfinite(off.max_geodesic_mm));
+    const double extent = off.geodesic_threshold_mm / 1e6;
+    INFO("extent " << extent << " mm, longest detour " << off.max_geodesic_mm << " mm");
+    REQUIRE(off.max_geodesic_mm > 0.2 * extent);
+    // half that detour as the threshold: edges go in until no empty edge's ends are farther apart
+    std::vector<std::uint8_t> solid = b.r.solid;
+    const sp::structural_step_report on = run(0.5 * off.max_geodesic_mm / extent, solid);
+    CHECK(on.added_geodesic > 0);
+    CHECK(on.added_connect == off.added_connect);
+    CHECK(on.max_geodesic_mm <= on.geodesic_threshold_mm);
+    CHECK(on.components_after == 1);
+    std::size_t geodesic_bridges = 0;
+    for (const auto& [e, c] : on.inserted) geodesic_bridges += c == sp::bridge_criterion::geodesic;
+    CHECK(geodesic_bridges == on.added_geodesic);
+    // the bridges are solid voxels: the connected result is a subset of this one, and one piece
+    for (std::size_t v = 0; v < solid.size(); ++v)
+        if (connected[v]) REQUIRE(solid[v] == 1);
+    CHECK(b.solid_pieces(solid) == 1);
+}
+
 TEST_CASE("structure step: identical for any thread count", "[surface_pattern][structure]") {
-    structural_thread_guard guard;
+    test::thread_count_guard guard;
     bunny_case b("giraffe.png", 5, 5);
     std::vector<std::uint8_t> s1 = b.r.solid, s2 = b.r.solid, f1, f2;
     set_num_threads(1);

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <fabsynth/core/parallel.hpp>
 #include <fabsynth/core/rng.hpp>
 #include <fabsynth/io/image.hpp>
@@ -35,11 +37,6 @@ sp::surface_shell bunny_shell(int resolution) {
     return sp::make_shell(io::read_mesh(std::string(FABSYNTH_DATA_DIR) + "/meshes/bunny_lowres.obj"), {.size_mm = 60, .resolution = resolution});
 }
 
-/// Restores the thread setting on scope exit.
-struct thread_guard {
-    unsigned saved = num_threads();
-    ~thread_guard() { set_num_threads(saved); }
-};
 
 }  // namespace
 
@@ -185,7 +182,7 @@ TEST_CASE("synthesis on the bunny: no pass increases the energy, the result is f
 }
 
 TEST_CASE("synthesis is identical for 1 and 2 threads and depends on the seed", "[surface_pattern][synthesis]") {
-    thread_guard guard;
+    test::thread_count_guard guard;
     const sp::surface_shell s = bunny_shell(48);
     const sp::shell_pyramid pyr = sp::build_shell_pyramid(s, sp::default_levels(48));
     const sp::exemplar ex = load_exemplar("spots", 5);

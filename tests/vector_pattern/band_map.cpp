@@ -3,6 +3,8 @@
 // of tests/support/raster_topology.hpp), bad input rejected.
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -20,7 +22,7 @@ using namespace fabsynth;
 using Catch::Matchers::Contains;
 
 namespace {
-ring2 rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+using fabsynth::test::rect_ring;
 
 std::vector<polygon_with_holes> band_of(const char* file, double* width = nullptr) { return test::vector_band(file, width); }
 }  // namespace
@@ -46,7 +48,7 @@ TEST_CASE("band map: on a circle every vertex lies at radius R + v, edges within
     const planar_curve c = planar_curve::circle(R);
     // a sector [u0, u1] x [v0, v1]: its image is an annular sector of known area
     const double u0 = 5, u1 = 40, v0 = -4, v1 = 6;
-    const auto out = vector_pattern::map_to_curve({{rect(u0, v0, u1, v1), {}}}, c, {.chord_tolerance = tol});
+    const auto out = vector_pattern::map_to_curve({{rect_ring(u0, v0, u1, v1), {}}}, c, {.chord_tolerance = tol});
     REQUIRE(out.size() == 1);
     std::size_t on_inner = 0, on_outer = 0;
     for (const vec2& p : out[0].outer) {
@@ -76,9 +78,9 @@ TEST_CASE("band map: closed curves glue shapes cut at u = 0 and u = L", "[patter
     const double R = 20.0, L = 2 * std::numbers::pi * R;
     const planar_curve c = planar_curve::circle(R);
     SECTION("a bar cut by the seam becomes one polygon with its hole") {
-        const std::vector<polygon_with_holes> band{{rect(0, -1, 3, 1), {}},
-                                                   {rect(L - 4, -1, L, 1), {rect(L - 3, -0.5, L - 1, 0.5)}},
-                                                   {rect(10, -1, 20, 1), {}}};
+        const std::vector<polygon_with_holes> band{{rect_ring(0, -1, 3, 1), {}},
+                                                   {rect_ring(L - 4, -1, L, 1), {rect_ring(L - 3, -0.5, L - 1, 0.5)}},
+                                                   {rect_ring(10, -1, 20, 1), {}}};
         const auto out = vector_pattern::map_to_curve(band, c, {.chord_tolerance = 1e-3});
         CHECK(out.size() == 2);
         std::size_t holes = 0;
@@ -92,7 +94,7 @@ TEST_CASE("band map: closed curves glue shapes cut at u = 0 and u = L", "[patter
         CHECK(t.holes == 1);
     }
     SECTION("a full-length band becomes an annulus (one component, one hole)") {
-        const auto out = vector_pattern::map_to_curve({{rect(0, -2, L, 2), {}}}, c, {.chord_tolerance = 1e-3});
+        const auto out = vector_pattern::map_to_curve({{rect_ring(0, -2, L, 2), {}}}, c, {.chord_tolerance = 1e-3});
         REQUIRE(out.size() == 1);
         CHECK(out[0].holes.size() == 1);
         const auto t = test::raster_topology(out, {-R - 3, -R - 3}, {R + 3, R + 3}, 0.05);
@@ -152,8 +154,8 @@ TEST_CASE("band map: an exemplar with many holes along an open polyline keeps it
 
 TEST_CASE("band map: bad input is rejected with a message", "[pattern][band_map]") {
     const planar_curve c = planar_curve::circle(10.0);
-    CHECK_THROWS_WITH(vector_pattern::map_to_curve({{rect(0, -1, 100, 1), {}}}, c), Contains("outside"));
-    CHECK_THROWS_WITH(vector_pattern::map_to_curve({{rect(0, -10, 5, 1), {}}}, c), Contains("radius of curvature"));
+    CHECK_THROWS_WITH(vector_pattern::map_to_curve({{rect_ring(0, -1, 100, 1), {}}}, c), Contains("outside"));
+    CHECK_THROWS_WITH(vector_pattern::map_to_curve({{rect_ring(0, -10, 5, 1), {}}}, c), Contains("radius of curvature"));
     CHECK_THROWS_WITH(vector_pattern::map_to_curve({{{{0, 0}, {1, std::nan("")}, {2, 1}}, {}}}, c), Contains("non-finite"));
-    CHECK_THROWS_AS(vector_pattern::map_to_curve({{rect(0, -1, 5, 1), {}}}, c, {.chord_tolerance = 0}), invalid_input);
+    CHECK_THROWS_AS(vector_pattern::map_to_curve({{rect_ring(0, -1, 5, 1), {}}}, c, {.chord_tolerance = 0}), invalid_input);
 }

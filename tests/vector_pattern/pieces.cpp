@@ -13,18 +13,12 @@
 #include "fabsynth/vector_pattern/pieces.hpp"
 #include "fabsynth/vector_pattern/reeb_slicing.hpp"
 #include "fabsynth/topology/descriptor.hpp"
+#include "support/vector_band.hpp"
 
 using namespace fabsynth;
 using vector_pattern::exemplar;
 
 namespace {
-
-constexpr const char* bundled_files[] = {"lace_scallop.svg", "greek_key.svg", "pearls.svg", "vine.svg",
-                                         "quatrefoil.svg",   "hearts.svg",    "zigzag.svg"};
-
-exemplar load(const char* f) {
-    return vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f));
-}
 
 // Cuts off the uniform positions by an irrational-ish fraction, so they miss grid-aligned edges.
 std::vector<double> offset_cuts(const exemplar& ex, int t) {
@@ -125,9 +119,9 @@ std::pair<int, int> raster_topology(const std::vector<polygon_with_holes>& polys
 }  // namespace
 
 TEST_CASE("slicing conserves the exemplar and finds the portals on every cut", "[pattern][pieces]") {
-    for (const char* f : bundled_files) {
+    for (const char* f : test::bundled_vector_files) {
         INFO(f);
-        const exemplar ex = load(f);
+        const exemplar ex = test::load_vector_exemplar(f);
         const auto cuts = offset_cuts(ex, 7);
         const auto pieces = vector_pattern::slice(ex, cuts);
         REQUIRE(pieces.size() == 8);
@@ -179,7 +173,7 @@ TEST_CASE("slicing conserves the exemplar and finds the portals on every cut", "
 TEST_CASE("piece topology matches a raster flood-fill count", "[pattern][pieces]") {
     for (const char* f : {"greek_key.svg", "zigzag.svg", "hearts.svg", "pearls.svg"}) {
         INFO(f);
-        const exemplar ex = load(f);
+        const exemplar ex = test::load_vector_exemplar(f);
         const auto pieces = vector_pattern::slice(ex, offset_cuts(ex, 5));
         for (std::size_t i = 0; i < pieces.size(); ++i) {
             INFO("piece " << i);
@@ -203,7 +197,7 @@ TEST_CASE("piece topology matches a raster count on the large exemplars", "[patt
     // hole area 0.043 mm^2 at 0.036 mm from the outline); the descriptor test above covers it.
     for (const char* f : {"lace_scallop.svg", "quatrefoil.svg"}) {
         INFO(f);
-        const exemplar ex = load(f);
+        const exemplar ex = test::load_vector_exemplar(f);
         const auto pieces = vector_pattern::slice(ex, offset_cuts(ex, 3));
         for (std::size_t i = 0; i < pieces.size(); ++i) {
             INFO("piece " << i);
@@ -215,7 +209,7 @@ TEST_CASE("piece topology matches a raster count on the large exemplars", "[patt
 }
 
 TEST_CASE("uniform slicing spaces t cuts W/(t+1) apart", "[pattern][pieces]") {
-    const exemplar ex = load("zigzag.svg");
+    const exemplar ex = test::load_vector_exemplar("zigzag.svg");
     const auto c = vector_pattern::uniform_cuts(ex, 5);
     REQUIRE(c.size() == 5);
     for (std::size_t k = 0; k < c.size(); ++k) CHECK(c[k] == Approx(80.0 * static_cast<double>(k + 1)));
@@ -341,7 +335,7 @@ TEST_CASE("Reeb slicing of bundled exemplars yields no topologically trivial pie
     const std::pair<const char*, double> cases[] = {{"greek_key.svg", 80.0}, {"hearts.svg", 160.0}, {"pearls.svg", 44.0}};
     for (const auto& [f, period] : cases) {
         INFO(f);
-        const exemplar ex = load(f);
+        const exemplar ex = test::load_vector_exemplar(f);
         const auto r = vector_pattern::reeb_slicing(ex, {.group_distance = 0.1 * period, .min_portal_width = 0.5});
         REQUIRE(r.cuts.size() >= 2);
         CHECK(std::is_sorted(r.cuts.begin(), r.cuts.end()));
@@ -365,7 +359,7 @@ TEST_CASE("Reeb slicing of bundled exemplars yields no topologically trivial pie
             CHECK_FALSE(trivial);
         }
     }
-    const exemplar ex = load("zigzag.svg");
+    const exemplar ex = test::load_vector_exemplar("zigzag.svg");
     CHECK_THROWS_AS(vector_pattern::reeb_slicing(ex, {.pixel = 1e-6}), invalid_input);  // raster too large
     CHECK_THROWS_AS(vector_pattern::reeb_slicing(ex, {.pixel = std::nan("")}), invalid_input);
 }

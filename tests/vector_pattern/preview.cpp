@@ -8,7 +8,7 @@
 using namespace fabsynth;
 
 namespace {
-polygon_with_holes rect(double x0, double y0, double x1, double y1) {
+polygon_with_holes rect_polygon(double x0, double y0, double x1, double y1) {
     return {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}, {}};
 }
 }  // namespace
@@ -16,7 +16,7 @@ polygon_with_holes rect(double x0, double y0, double x1, double y1) {
 TEST_CASE("preview: grey levels are the covered fraction of each pixel", "[pattern][preview]") {
     const box2 view({0.0, 0.0}, {10.0, 10.0});
     // Columns 0-4 fully covered, column 5 half covered (x in [5, 5.5]), the rest background.
-    const image8 img = vector_pattern::preview_image({rect(0.0, 0.0, 5.5, 10.0)}, view, {.max_side = 10, .supersample = 4});
+    const image8 img = vector_pattern::preview_image({rect_polygon(0.0, 0.0, 5.5, 10.0)}, view, {.max_side = 10, .supersample = 4});
     REQUIRE(img.width == 10);
     REQUIRE(img.height == 10);
     REQUIRE(img.channels == 1);
@@ -26,7 +26,7 @@ TEST_CASE("preview: grey levels are the covered fraction of each pixel", "[patte
         for (int x = 6; x < 10; ++x) CHECK(img.at(x, y) == 255);
     }
     // Row 0 is the smallest y; a hole is background (even-odd).
-    polygon_with_holes frame = rect(0.0, 0.0, 10.0, 2.0);
+    polygon_with_holes frame = rect_polygon(0.0, 0.0, 10.0, 2.0);
     frame.holes.push_back({{4.0, 0.5}, {4.0, 1.5}, {6.0, 1.5}, {6.0, 0.5}});
     const image8 f = vector_pattern::preview_image({frame}, view, {.max_side = 10, .supersample = 2});
     CHECK(f.at(0, 0) == 0);

@@ -2,6 +2,8 @@
 // and the raster topology oracle of tests/support/raster_topology.hpp.
 #include <catch2/catch.hpp>
 
+#include "support/test_util.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -15,18 +17,14 @@
 #include "fabsynth/io/svg.hpp"
 #include "fabsynth/vector_pattern.hpp"
 #include "support/raster_topology.hpp"
+#include "support/vector_band.hpp"
 
 using namespace fabsynth;
 using vector_pattern::exemplar;
 
 namespace {
 
-constexpr const char* bundled_files[] = {"lace_scallop.svg", "greek_key.svg", "pearls.svg", "vine.svg",
-                                         "quatrefoil.svg",   "hearts.svg",    "zigzag.svg"};
-
-exemplar load(const std::string& f) { return vector_pattern::exemplar_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/" + f)); }
-
-ring2 rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+using fabsynth::test::rect_ring;
 
 // Oracle counts of a band result (closed: glued at u = 0 / u = L by column wrap-around).
 test::raster_topology_result oracle(const std::vector<polygon_with_holes>& polys, double L, bool closed, double pixel = 0.05) {
@@ -68,9 +66,9 @@ void check_band(const vector_pattern::synthesis_result& r, double L, bool closed
 
 TEST_CASE("raster topology oracle counts simple configurations", "[pattern][synthesis][oracle]") {
     // A frame with two windows, and a separate square.
-    polygon_with_holes frame{rect(0, 0, 10, 5), {rect(1, 1, 4, 4), rect(5, 1, 9, 4)}};
+    polygon_with_holes frame{rect_ring(0, 0, 10, 5), {rect_ring(1, 1, 4, 4), rect_ring(5, 1, 9, 4)}};
     orient(frame);
-    polygon_with_holes square{rect(12, 0, 14, 2), {}};
+    polygon_with_holes square{rect_ring(12, 0, 14, 2), {}};
     auto t = test::raster_topology({frame, square}, {0, 0}, {14, 5}, 0.05);
     CHECK(t.components == 2);
     CHECK(t.holes == 2);
@@ -78,7 +76,7 @@ TEST_CASE("raster topology oracle counts simple configurations", "[pattern][synt
     polygon_with_holes c{{{0, 0}, {10, 0}, {10, 5}, {0, 5}, {0, 4}, {9, 4}, {9, 1}, {0, 1}}, {}};
     orient(c);
     CHECK(test::raster_topology({c}, {0, 0}, {10, 5}, 0.05, false).holes == 0);
-    polygon_with_holes bar{rect(0, 0, 0.5, 5), {}};
+    polygon_with_holes bar{rect_ring(0, 0, 0.5, 5), {}};
     polygon_with_holes c2{{{1, 0}, {10, 0}, {10, 5}, {1, 5}, {1, 4}, {9, 4}, {9, 1}, {1, 1}}, {}};
     orient(c2);
     // Without wrap the bar and the C are apart; with wrap the bar (at x = 0) touches the C's right side.
@@ -163,7 +161,7 @@ TEST_CASE("LRI chain: rigid motions are reproduced and end constraints met", "[p
 TEST_CASE("stitching a piece stretched along u reproduces the stretched piece", "[pattern][synthesis][stitching]") {
     // Oracle: the piece's own rings under x -> u0 + (x - x0) s. With targets on that map (stretched
     // endpoint tangents too) the stretched rest shape is met exactly, for a compression and an extension.
-    const exemplar ex = load("greek_key.svg");
+    const exemplar ex = test::load_vector_exemplar("greek_key.svg");
     const auto pieces = vector_pattern::slice(ex, std::vector<double>{ex.bounds.lo.x + 101.2345, ex.bounds.lo.x + 203.4567});
     const vector_pattern::piece& P = pieces[1];
     REQUIRE_FALSE(P.left.empty());
@@ -207,7 +205,7 @@ TEST_CASE("stitching a piece stretched along u reproduces the stretched piece", 
 }
 
 TEST_CASE("stitched seams: matching portal endpoints of neighbouring pieces coincide", "[pattern][synthesis][stitching]") {
-    const exemplar ex = load("greek_key.svg");
+    const exemplar ex = test::load_vector_exemplar("greek_key.svg");
     const auto pieces = vector_pattern::slice(ex, std::vector<double>{ex.bounds.lo.x + 101.2345, ex.bounds.lo.x + 203.4567});
     const vector_pattern::piece &A = pieces[0], &B = pieces[1];
     REQUIRE(A.right.size() == B.left.size());
@@ -259,7 +257,7 @@ void sweep(const std::vector<std::string>& files, const std::vector<double>& fac
     // stay rare.
     std::size_t cases = 0, refused = 0, retried = 0;
     for (const std::string& f : files) {
-        const exemplar ex = load(f);
+        const exemplar ex = test::load_vector_exemplar(f);
         for (int closed = 0; closed < 2; ++closed) {
             for (double factor : factors) {
                 const double L = std::round(factor * ex.width());
@@ -309,7 +307,7 @@ TEST_CASE("synthesis along open and closed bands meets topology requests exactly
 }
 
 TEST_CASE("synthesis sweep over every bundled exemplar and several lengths", "[pattern][synthesis][slow]") {
-    sweep(std::vector<std::string>(std::begin(bundled_files), std::end(bundled_files)), {0.55, 0.8, 1.15});
+    sweep(std::vector<std::string>(std::begin(test::bundled_vector_files), std::end(test::bundled_vector_files)), {0.55, 0.8, 1.15});
 }
 
 namespace {
@@ -342,7 +340,7 @@ TEST_CASE("holes near a stitched chain keep their clearance", "[pattern][synthes
     // vine.svg has four holes of 0.043 mm^2 about 0.036 mm from the boundary around them. Moved with
     // the piece instead of with their nearest chain they were cut or touched (clearance 0) at
     // junctions; here they must stay apart and keep their area.
-    const exemplar ex = load("vine.svg");
+    const exemplar ex = test::load_vector_exemplar("vine.svg");
     const double original = tiny_hole_clearance(ex.polygons);
     REQUIRE(original > 0.02);
     REQUIRE(original < 0.05);
@@ -357,7 +355,7 @@ TEST_CASE("holes near a stitched chain keep their clearance", "[pattern][synthes
 }
 
 TEST_CASE("synthesis is deterministic", "[pattern][synthesis]") {
-    const exemplar ex = load("quatrefoil.svg");
+    const exemplar ex = test::load_vector_exemplar("quatrefoil.svg");
     vector_pattern::synthesis_options o{.length = 300.0, .closed = true, .seed = 42};
     const auto a = vector_pattern::synthesize_along(ex, o), b = vector_pattern::synthesize_along(ex, o);
     CHECK(a.polygons == b.polygons);
@@ -365,7 +363,7 @@ TEST_CASE("synthesis is deterministic", "[pattern][synthesis]") {
 }
 
 TEST_CASE("impossible or malformed requests throw the right error quickly", "[pattern][synthesis]") {
-    const exemplar zig = load("zigzag.svg");
+    const exemplar zig = test::load_vector_exemplar("zigzag.svg");
     const auto start = std::chrono::steady_clock::now();
     // The zigzag is one simple polygon: no arrangement of its pieces has a hole.
     CHECK_THROWS_AS(vector_pattern::synthesize_along(zig, {.length = 300.0, .holes = 1}), no_solution);
@@ -393,7 +391,7 @@ TEST_CASE("impossible or malformed requests throw the right error quickly", "[pa
 }
 
 TEST_CASE("rectangles have the exact size and the requested topology", "[pattern][synthesis][rectangle]") {
-    const exemplar ex = load("greek_key.svg");
+    const exemplar ex = test::load_vector_exemplar("greek_key.svg");
     for (auto [W, H] : {std::pair{250.0, 200.0}, std::pair{400.0, 130.0}}) {
         INFO("W=" << W << " H=" << H);
         const auto r = vector_pattern::synthesize_rectangle(ex, {.width = W, .height = H, .components = 1});
@@ -416,7 +414,7 @@ TEST_CASE("rectangles have the exact size and the requested topology", "[pattern
 
 TEST_CASE("synthesis phases called one by one give synthesize_along's result", "[pattern][synthesis][phases]") {
     namespace d = vector_pattern::detail;
-    const exemplar ex = load("greek_key.svg");
+    const exemplar ex = test::load_vector_exemplar("greek_key.svg");
     for (bool closed : {false, true}) {
         INFO("closed " << closed);
         const vector_pattern::synthesis_options o{.length = std::round(0.6 * ex.width()), .closed = closed, .components = 1};
