@@ -4,6 +4,7 @@
 #include <fabsynth/geometry/polygon.hpp>
 #include <fabsynth/io/svg.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -52,5 +53,23 @@ void BM_PolygonGroupRingsLace(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(fabsynth::group_rings(rings));
 }
 BENCHMARK(BM_PolygonGroupRingsLace)->Unit(benchmark::kMillisecond);
+
+// The outline of a band along an Archimedean spiral with N points per side: every edge overlaps
+// many others in x and in y (the case that made an x-sweep quadratic, issue 16).
+void BM_PolygonIsSimpleSpiral(benchmark::State& state) {
+    const auto n = static_cast<std::size_t>(state.range(0));
+    fabsynth::ring2 outline;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double t = 1.0 + 0.01 * static_cast<double>(i);
+        outline.emplace_back((t + 0.5) * std::cos(t), (t + 0.5) * std::sin(t));
+    }
+    for (std::size_t i = n; i-- > 0;) {
+        const double t = 1.0 + 0.01 * static_cast<double>(i);
+        outline.emplace_back((t - 0.5) * std::cos(t), (t - 0.5) * std::sin(t));
+    }
+    for (auto _ : state) benchmark::DoNotOptimize(fabsynth::is_simple(outline));
+    state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * outline.size()));
+}
+BENCHMARK(BM_PolygonIsSimpleSpiral)->Arg(10000)->Arg(40000)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -116,6 +116,10 @@ TEST_CASE("inp: unsupported and malformed input is reported by name and line", "
     CHECK_THAT(err("*ELASTIC\n1,0.3\n"), Catch::Contains("outside a *MATERIAL"));
     CHECK_THAT(err("*ELEMENT, TYPE=C3D8, ELSET=F\n2,1,2,3,4,5,6,7,8\n"), Catch::Contains("element 2 has no *SOLID SECTION"));
     CHECK_THAT(err("*MATERIAL, NAME=B\n*ELASTIC\n100, 0.7\n*SOLID SECTION, ELSET=E, MATERIAL=B\n"), Catch::Contains("Poisson"));
+    // values that would overflow the element integrals are refused at their line
+    CHECK_THAT(err("*NODE\n90, 1e308, 0, 0\n"), Catch::Contains("deck.inp:17") && Catch::Contains("x = 1e308 is out of range"));
+    CHECK_THAT(err("*MATERIAL, NAME=B\n*ELASTIC\n1e308, 0.3\n"), Catch::Contains("deck.inp:18") && Catch::Contains("E = 1e308"));
+    CHECK_THAT(err("*CLOAD\n1, 3, -1e31\n"), Catch::Contains("out of range"));
     CHECK_NOTHROW(parse_inp(base + "*BOUNDARY\n1, ENCASTRE\n", "ok.inp"));  // rotations skipped on solid nodes
 }
 

@@ -2,7 +2,10 @@
 // Timoshenko & Woinowsky-Krieger plate tables, solver agreement and singular-system detection.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "fabsynth/fem/assembly.hpp"
 #include "fabsynth/fem/boundary.hpp"
@@ -229,4 +232,20 @@ TEST_CASE("singular systems raise solver_error naming the cause", "[fem][solvers
     mesh bad = m;
     bad.elements[0].stiffness_scale = std::nan("");
     CHECK_THROWS_AS(solve_linear_static(bad, lc2), invalid_input);
+}
+
+TEST_CASE("an inverted element is named by its label and its nodes' labels", "[fem][assembly]") {
+    mesh m = make_box_mesh(vec3(0.0), vec3(4, 2, 2), ivec3(2, 1, 1), {{1000.0, 0.3}});
+    // swap the bottom and top faces of element 1: it is inside out
+    auto& nodes = m.elements[1].nodes;
+    for (int a = 0; a < 4; ++a) std::swap(nodes[a], nodes[a + 4]);
+    const std::array<std::uint32_t, 8> inverted = nodes;
+    CHECK_THROWS_WITH(assemble_stiffness(m, dof_map(m)), Catch::StartsWith("fabsynth: element 1 (nodes ") && Catch::Contains("inverted"));
+    // with the labels of a deck
+    m.element_ids = {101, 102};
+    m.node_ids.resize(m.nodes.size());
+    for (std::size_t i = 0; i < m.nodes.size(); ++i) m.node_ids[i] = static_cast<std::int64_t>(1000 + i);
+    std::string nodes_text;
+    for (std::uint32_t n : inverted) nodes_text += (nodes_text.empty() ? "" : " ") + std::to_string(1000 + n);
+    CHECK_THROWS_WITH(assemble_stiffness(m, dof_map(m)), Catch::StartsWith("fabsynth: element 102 (nodes " + nodes_text + "): "));
 }

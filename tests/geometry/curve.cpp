@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fabsynth/core/rng.hpp"
 #include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/io/svg.hpp"
 
@@ -171,4 +172,95 @@ TEST_CASE("curve: bad input is rejected with a message", "[geometry][curve]") {
     CHECK_THROWS_AS(planar_curve::line(10).check_band(nan), invalid_input);
     const auto empty = io::parse_svg(R"(<svg xmlns="http://www.w3.org/2000/svg"></svg>)", "e.svg");
     CHECK_THROWS_WITH(curve_from_svg(empty), Contains("no path"));
+}
+
+namespace {
+// Independent oracle for detail::curve::any_contact: every pair of non-consecutive edges, with a
+// plain orientation test (random coordinates make touching and collinear cases measure-zero).
+double orient_oracle(vec2 a, vec2 b, vec2 c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
+bool crossing_oracle(vec2 a, vec2 b, vec2 c, vec2 d) {
+    const double d1 = orient_oracle(a, b, c), d2 = orient_oracle(a, b, d), d3 = orient_oracle(c, d, a), d4 = orient_oracle(c, d, b);
+    return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
+}
+bool brute_force_contact(const std::vector<std::vector<vec2>>& lines, const std::vector<bool>& closed) {
+    struct seg { std::size_t l, i; vec2 a, b; };
+    std::vector<seg> s;
+    for (std::size_t l = 0; l < lines.size(); ++l)
+        for (std::size_t i = 0; i + (closed[l] ? 0 : 1) < lines[l].size(); ++i) s.push_back({l, i, lines[l][i], lines[l][(i + 1) % lines[l].size()]});
+    for (std::size_t x = 0; x < s.size(); ++x)
+        for (std::size_t y = x + 1; y < s.size(); ++y) {
+            if (s[x].l == s[y].l) {
+                const std::size_t n = lines[s[x].l].size(), d = s[y].i - s[x].i;
+                if (d == 1 || (closed[s[x].l] && d == n - 1)) continue;
+            }
+            if (crossing_oracle(s[x].a, s[x].b, s[y].a, s[y].b)) return true;
+        }
+    return false;
+}
+}  // namespace
+
+TEST_CASE("curve: the contact test agrees with a brute-force oracle, and long spirals stay linear", "[geometry][curve]") {
+    fabsynth::counter_rng r(77);
+    int with_contact = 0, without = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        // random walks of varying step, so some cross themselves or each other and some do not
+        const std::size_t nl = 1 + r.uniform_int(3);
+        std::vector<std::vector<vec2>> lines(nl);
+        std::vector<bool> closed(nl);
+        const double step = r.uniform(0.05, 3.0);
+        for (std::size_t l = 0; l < nl; ++l) {
+            vec2 p{r.uniform(0, 10), r.uniform(0, 10)};
+            const std::size_t n = 3 + r.uniform_int(25);
+            double heading = r.uniform(0, 6.283);
+            for (std::size_t i = 0; i < n; ++i) {
+                lines[l].push_back(p);
+                heading += r.uniform(-1.2, 1.2);
+                p += step * vec2(std::cos(heading), std::sin(heading)) * r.uniform(0.2, 1.0);
+            }
+            closed[l] = r.uniform_int(2) == 1;
+        }
+        const bool expect = brute_force_contact(lines, closed);
+        INFO("trial " << trial);
+        REQUIRE(fabsynth::detail::curve::any_contact(lines, closed) == expect);
+        (expect ? with_contact : without) += 1;
+    }
+    CHECK(with_contact > 50);
+    CHECK(without > 50);
+    // a 60 k-edge Archimedean spiral (every edge overlaps many others in x and y): no contact,
+    // then one chord across its turns
+    std::vector<vec2> spiral;
+    for (int i = 0; i < 60000; ++i) {
+        const double t = 0.01 * i + 1.0;
+        spiral.emplace_back(t * std::cos(t), t * std::sin(t));
+    }
+    CHECK_FALSE(fabsynth::detail::curve::any_contact({spiral}, {false}));
+    CHECK(fabsynth::detail::curve::any_contact({spiral, {{0, 0}, {500, 1}}}, {false, false}));
+    CHECK_NOTHROW(fabsynth::planar_curve::polyline(spiral, false).check_band(0.1));
+    // is_simple on the same grid: the 120 k-vertex outline of a band along the spiral, out along
+    // one side and back along the other, then with one vertex pulled across the next turn
+    ring2 outline;
+    for (std::size_t i = 0; i < spiral.size(); ++i) outline.push_back(spiral[i] * (1 + 0.5 / glm::length(spiral[i])));
+    for (std::size_t i = spiral.size(); i-- > 0;) outline.push_back(spiral[i] * (1 - 0.5 / glm::length(spiral[i])));
+    CHECK(fabsynth::is_simple(outline));
+    outline[30000] *= 1.3;
+    CHECK_FALSE(fabsynth::is_simple(outline));
+    // and is_simple against the oracle on random closed walks
+    int simple = 0, not_simple = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        ring2 ring;
+        vec2 p{0, 0};
+        double heading = r.uniform(0, 6.283);
+        const std::size_t n = 3 + r.uniform_int(12);
+        for (std::size_t i = 0; i < n; ++i) {
+            ring.push_back(p);
+            heading += r.uniform(0.2, 1.4);  // mostly turning one way: many rings are simple
+            p += vec2(std::cos(heading), std::sin(heading)) * r.uniform(0.3, 1.0);
+        }
+        const bool expect = !brute_force_contact({ring}, {true});
+        INFO("ring trial " << trial);
+        REQUIRE(fabsynth::is_simple(ring) == expect);
+        (expect ? simple : not_simple) += 1;
+    }
+    CHECK(simple > 30);
+    CHECK(not_simple > 30);
 }

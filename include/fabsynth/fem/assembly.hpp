@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -94,10 +96,27 @@ inline Eigen::SparseMatrix<double> pattern_matrix(const dof_map& dofs, const nod
     return K;
 }
 
+/// scale x the stiffness of element e of type E. An element that cannot be integrated
+/// (inverted, degenerate, non-finite) is named in the error by its label and its nodes' labels
+/// (the deck's numbers for a deck, else 0-based indices).
+template <finite_element E>
+typename E::matrix_t scaled_element_stiffness(const mesh& m, std::size_t e, double scale) {
+    try {
+        return scale * E::stiffness(m.element_nodes<E>(e), m.properties<E>(e));
+    } catch (const invalid_input& x) {
+        std::string nodes;
+        for (int a = 0; a < E::num_nodes; ++a) nodes += (a ? " " : "") + std::to_string(m.node_label(m.elements[e].nodes[static_cast<std::size_t>(a)]));
+        constexpr std::string_view prefix = "fabsynth: ";
+        std::string_view what = x.what();
+        if (what.starts_with(prefix)) what.remove_prefix(prefix.size());
+        throw invalid_input("element " + std::to_string(m.element_label(e)) + " (nodes " + nodes + "): " + std::string(what));
+    }
+}
+
 /// Scaled stiffness of element e of type E.
 template <finite_element E>
 typename E::matrix_t element_stiffness(const mesh& m, std::size_t e) {
-    return m.elements[e].stiffness_scale * E::stiffness(m.element_nodes<E>(e), m.properties<E>(e));
+    return scaled_element_stiffness<E>(m, e, m.elements[e].stiffness_scale);
 }
 
 }  // namespace detail

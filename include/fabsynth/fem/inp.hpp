@@ -17,7 +17,8 @@
 ///               element|elset, P, pressure              (S3 shells only; positive against the normal)
 ///   *NODE PRINT, *EL PRINT, *NODE FILE, *EL FILE: accepted and ignored (with their data lines).
 /// Any other keyword, parameter value or data line it cannot honour throws io_error naming the
-/// file, line and keyword: nothing is skipped silently. DOFs in decks are 1-based (1-3 = ux..uz,
+/// file, line and keyword: nothing is skipped silently; so does a number above 1e30 in magnitude
+/// (it would overflow the element integrals). DOFs in decks are 1-based (1-3 = ux..uz,
 /// 4-6 = rx..rz); fem::load_case uses 0-based DOFs and 0-based node/element indices.
 /// Units are whatever the deck uses; fabsynth assumes mm, N, MPa, t/mm^3, s.
 ///
@@ -148,11 +149,16 @@ private:
         throw io_error(file_, line_, what);
     }
 
+    static constexpr double max_magnitude = 1e30;
     double number(std::string_view s, const char* what) const {
         double v = 0;
         const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
         if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(v))
             fail(std::string("expected a finite number for ") + what + ", got '" + std::string(s) + "'");
+        // element integrals take products and cubes of these (det J ~ size^3, K ~ E size): refuse
+        // what would overflow there, here where the line is known
+        if (std::abs(v) > max_magnitude)
+            fail(std::string(what) + " = " + std::string(s) + " is out of range (|value| <= 1e30)");
         return v;
     }
     std::int64_t integer(std::string_view s, const char* what) const {

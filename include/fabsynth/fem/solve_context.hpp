@@ -123,7 +123,7 @@ public:
                 const std::size_t e = elements[k];
                 const double delta = scales[k] - m_.elements[e].stiffness_scale;
                 visit_kind(m_.elements[e].kind, [&]<class E>(std::type_identity<E>) {
-                    Ke[k - c0] = delta * E::stiffness(m_.element_nodes<E>(e), m_.properties<E>(e));
+                    Ke[k - c0] = detail::scaled_element_stiffness<E>(m_, e, delta);
                 });
             }, {.grain = 16});
             for (std::size_t k = c0; k < c1; ++k) {  // serial, in list order: deterministic sums

@@ -44,6 +44,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fabsynth/core/box.hpp"
@@ -55,7 +56,9 @@ namespace fabsynth {
 
 namespace detail::curve {
 /// True iff two of the given polylines (open or closed) cross or touch, or one touches itself,
-/// other than at the shared vertex of consecutive edges. Sweep over x-sorted edge extents.
+/// other than at the shared vertex of consecutive edges.
+///
+/// Candidate pairs come from detail::any_segment_pair's grid (polygon.hpp).
 inline bool any_contact(const std::vector<std::vector<vec2>>& lines, const std::vector<bool>& closed) {
     struct edge {
         std::size_t line, index;
@@ -64,37 +67,31 @@ inline bool any_contact(const std::vector<std::vector<vec2>>& lines, const std::
     std::vector<edge> edges;
     for (std::size_t l = 0; l < lines.size(); ++l) {
         const auto& p = lines[l];
+        if (p.size() < 2) continue;
         const std::size_t n = p.size(), m = closed[l] ? n : n - 1;
         for (std::size_t i = 0; i < m; ++i) edges.push_back({l, i, p[i], p[(i + 1) % n]});
     }
-    std::sort(edges.begin(), edges.end(), [](const edge& x, const edge& y) {
-        const double ax = std::min(x.a.x, x.b.x), bx = std::min(y.a.x, y.b.x);
-        return ax < bx || (ax == bx && (x.line < y.line || (x.line == y.line && x.index < y.index)));
-    });
-    std::vector<std::size_t> active;
-    for (std::size_t e = 0; e < edges.size(); ++e) {
-        const edge& E = edges[e];
-        const double x = std::min(E.a.x, E.b.x);
-        std::erase_if(active, [&](std::size_t f) { return std::max(edges[f].a.x, edges[f].b.x) < x; });
-        for (std::size_t f : active) {
-            const edge& F = edges[f];
-            if (E.line == F.line) {
-                const std::size_t n = lines[E.line].size();
-                const std::size_t d = E.index > F.index ? E.index - F.index : F.index - E.index;
-                const bool adjacent = d == 1 || (closed[E.line] && d == n - 1);
-                if (adjacent) {
-                    // consecutive edges share one vertex; they only fail if they fold onto each other
-                    const vec2 s = (E.b == F.a) ? E.b : E.a;
-                    const vec2 pe = (E.b == F.a) ? E.a : E.b, pf = (E.b == F.a) ? F.b : F.a;
-                    if (orient2d(pe, s, pf) == 0.0 && glm::dot(pe - s, pf - s) > 0.0) return true;
-                    continue;
-                }
+    if (edges.size() < 2) return false;
+    auto contact = [&](const edge& E, const edge& F) {
+        if (E.line == F.line) {
+            const std::size_t n = lines[E.line].size();
+            const std::size_t d = E.index > F.index ? E.index - F.index : F.index - E.index;
+            if (d == 0) return false;
+            const bool adjacent = d == 1 || (closed[E.line] && d == n - 1);
+            if (adjacent) {
+                // consecutive edges share one vertex; they only fail if they fold onto each other
+                const vec2 s = (E.b == F.a) ? E.b : E.a;
+                const vec2 pe = (E.b == F.a) ? E.a : E.b, pf = (E.b == F.a) ? F.b : F.a;
+                return orient2d(pe, s, pf) == 0.0 && glm::dot(pe - s, pf - s) > 0.0;
             }
-            if (fabsynth::detail::segments_intersect(E.a, E.b, F.a, F.b)) return true;
         }
-        active.push_back(e);
-    }
-    return false;
+        return fabsynth::detail::segments_intersect(E.a, E.b, F.a, F.b);
+    };
+
+    std::vector<std::pair<vec2, vec2>> segs;
+    segs.reserve(edges.size());
+    for (const edge& e : edges) segs.emplace_back(e.a, e.b);
+    return fabsynth::detail::any_segment_pair(segs, [&](std::size_t i, std::size_t j) { return contact(edges[i], edges[j]); });
 }
 }  // namespace detail::curve
 

@@ -20,8 +20,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <numeric>
+#include <cstdint>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fabsynth/core/box.hpp"
@@ -162,12 +164,70 @@ namespace detail {
     return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) || (o3 == 0 && on_segment(c, d, a)) ||
            (o4 == 0 && on_segment(c, d, b));
 }
+
+/// Calls test(i, j), i < j, for every pair of segments that come within one grid cell of each
+/// other (a superset of the pairs that touch) until one returns true; returns whether one did.
+/// Segments are bucketed in a uniform grid whose cell is the median segment length, coarsened to
+/// at most ~4 cells per segment: O(n log n + sum over cells of k^2) for k segments per cell, so
+/// linear for outlines whose segments do not crowd into a few cells. (An x-sweep, used before,
+/// degenerates to O(n^2) on spirals and zigzags, whose segments all overlap in x.) A pair may be
+/// tested more than once. Coordinates must be finite.
+template <class Test>
+[[nodiscard]] bool any_segment_pair(const std::vector<std::pair<vec2, vec2>>& segs, Test&& test) {
+    if (segs.size() < 2) return false;
+    vec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    std::vector<double> lengths;
+    lengths.reserve(segs.size());
+    for (const auto& [a, b] : segs) {
+        lo = glm::min(lo, glm::min(a, b));
+        hi = glm::max(hi, glm::max(a, b));
+        lengths.push_back(glm::length(b - a));
+    }
+    const double w = hi.x - lo.x, h = hi.y - lo.y;
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+    double cell = lengths[lengths.size() / 2];
+    if (!(cell > 0.0) || !std::isfinite(cell)) cell = std::max({w, h, 1.0});
+    const double max_cells = 4.0 * static_cast<double>(segs.size()) + 16.0;
+    while ((std::floor(w / cell) + 1.0) * (std::floor(h / cell) + 1.0) > max_cells) cell *= 1.5;
+    const auto nx = static_cast<std::int64_t>(std::floor(w / cell)) + 1, ny = static_cast<std::int64_t>(std::floor(h / cell)) + 1;
+    auto cell_of = [&](double v, double o, std::int64_t count) {
+        return std::clamp(static_cast<std::int64_t>(std::floor((v - o) / cell)), std::int64_t{0}, count - 1);
+    };
+    // (cell, segment) entries: samples every half cell along the segment, each with its 3 x 3
+    // block, so every cell the segment passes through is listed (each of its points is within a
+    // quarter cell of a sample)
+    std::vector<std::pair<std::int64_t, std::size_t>> entries;
+    for (std::size_t k = 0; k < segs.size(); ++k) {
+        const auto& [a, b] = segs[k];
+        const double len = glm::length(b - a);
+        const auto steps = static_cast<std::int64_t>(std::min(std::ceil(len / (0.5 * cell)), 4.0 * static_cast<double>(nx + ny)));
+        const std::size_t first = entries.size();
+        for (std::int64_t t = 0; t <= steps; ++t) {
+            const vec2 q = steps ? a + (b - a) * (static_cast<double>(t) / static_cast<double>(steps)) : a;
+            const std::int64_t ix = cell_of(q.x, lo.x, nx), iy = cell_of(q.y, lo.y, ny);
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dx = -1; dx <= 1; ++dx)
+                    if (ix + dx >= 0 && ix + dx < nx && iy + dy >= 0 && iy + dy < ny) entries.emplace_back((iy + dy) * nx + ix + dx, k);
+        }
+        std::sort(entries.begin() + static_cast<std::ptrdiff_t>(first), entries.end());
+        entries.erase(std::unique(entries.begin() + static_cast<std::ptrdiff_t>(first), entries.end()), entries.end());
+    }
+    std::sort(entries.begin(), entries.end());
+    for (std::size_t g = 0; g < entries.size();) {
+        std::size_t end = g;
+        while (end < entries.size() && entries[end].first == entries[g].first) ++end;
+        for (std::size_t i = g; i < end; ++i)
+            for (std::size_t j = i + 1; j < end; ++j)
+                if (test(entries[i].second, entries[j].second)) return true;
+        g = end;
+    }
+    return false;
+}
 }  // namespace detail
 
 /// True iff the ring is a simple closed curve: at least 3 points, no zero-length edge, adjacent
 /// edges meet only at their shared vertex (no fold-back), non-adjacent edges do not touch.
-/// Sweep over x-sorted edge extents: O(n log n + k) where k is the number of edge pairs whose
-/// x-extents overlap (O(n^2) worst case, near-linear for typical outlines).
+/// Candidate pairs from detail::any_segment_pair's grid: near-linear unless edges crowd.
 [[nodiscard]] inline bool is_simple(const ring2& r) {
     const std::size_t n = r.size();
     if (n < 3) return false;
@@ -178,26 +238,14 @@ namespace detail {
         const vec2 a = r[i], b = r[(i + 1) % n], c = r[(i + 2) % n];
         if (orient2d(a, b, c) == 0.0 && glm::dot(b - a, c - b) < 0.0) return false;
     }
-    std::vector<std::size_t> order(n);
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    auto lo_x = [&](std::size_t e) { return std::min(r[e].x, r[(e + 1) % n].x); };
-    auto hi_x = [&](std::size_t e) { return std::max(r[e].x, r[(e + 1) % n].x); };
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        const double la = lo_x(a), lb = lo_x(b);
-        return la < lb || (la == lb && a < b);
+    std::vector<std::pair<vec2, vec2>> segs(n);
+    for (std::size_t i = 0; i < n; ++i) segs[i] = {r[i], r[(i + 1) % n]};
+    const bool touch = detail::any_segment_pair(segs, [&](std::size_t e, std::size_t f) {
+        const std::size_t d = e > f ? e - f : f - e;
+        if (d == 1 || d == n - 1) return false;  // adjacent: checked above
+        return detail::segments_intersect(r[e], r[(e + 1) % n], r[f], r[(f + 1) % n]);
     });
-    std::vector<std::size_t> active;  // edges whose x-extent may still overlap the next ones
-    for (std::size_t e : order) {
-        const double x = lo_x(e);
-        std::erase_if(active, [&](std::size_t f) { return hi_x(f) < x; });
-        const vec2 a = r[e], b = r[(e + 1) % n];
-        for (std::size_t f : active) {
-            const std::size_t d = e > f ? e - f : f - e;
-            if (d == 1 || d == n - 1) continue;  // adjacent: checked above
-            if (detail::segments_intersect(a, b, r[f], r[(f + 1) % n])) return false;
-        }
-        active.push_back(e);
-    }
+    if (touch) return false;
     return true;
 }
 
