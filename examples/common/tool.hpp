@@ -27,6 +27,7 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <new>
 #include <string>
 #include <string_view>
@@ -85,17 +86,64 @@ inline failure current_failure(std::string_view tool) {
 inline void check_outputs(const std::vector<std::filesystem::path>& inputs, const std::vector<std::filesystem::path>& outputs) {
     namespace fs = std::filesystem;
     std::error_code ec;
+    std::vector<fs::path> existing_inputs;
+    for (const fs::path& in : inputs)
+        if (!in.empty() && fs::exists(in, ec)) existing_inputs.push_back(in);
+    std::map<fs::path, std::size_t> seen;  // normalised output -> its index (a slice stack has thousands)
     for (std::size_t k = 0; k < outputs.size(); ++k) {
         const fs::path& out = outputs[k];
         if (out.empty()) continue;
-        for (const fs::path& in : inputs)
-            if (!in.empty() && fs::exists(out, ec) && fs::exists(in, ec) && fs::equivalent(out, in, ec))
-                throw invalid_input("output '" + out.string() + "' is the input '" + in.string() + "': refusing to overwrite an input");
-        const fs::path a = fs::weakly_canonical(fs::absolute(out), ec);
-        for (std::size_t m = 0; m < k; ++m)
-            if (!outputs[m].empty() && fs::weakly_canonical(fs::absolute(outputs[m]), ec) == a)
-                throw invalid_input("outputs '" + outputs[m].string() + "' and '" + out.string() + "' are the same file");
+        if (fs::exists(out, ec))
+            for (const fs::path& in : existing_inputs)
+                if (fs::equivalent(out, in, ec))
+                    throw invalid_input("output '" + out.string() + "' is the input '" + in.string() + "': refusing to overwrite an input");
+        const auto [at, fresh] = seen.emplace(fs::weakly_canonical(fs::absolute(out), ec), k);
+        if (!fresh) throw invalid_input("outputs '" + outputs[at->second].string() + "' and '" + out.string() + "' are the same file");
     }
+}
+
+/// Returns v if it is finite and within [lo, hi], else invalid_input naming the option, e.g.
+/// require_range(height, 1e-3, 1e5, "--height", "mm"): values that would overflow or vanish in a
+/// computation are refused where they enter.
+inline double require_range(double v, double lo, double hi, const std::string& option, const char* unit) {
+    if (!(std::isfinite(v) && v >= lo && v <= hi)) {
+        char msg[160];
+        std::snprintf(msg, sizeof msg, " = %g must be a finite value in [%g, %g] %s", v, lo, hi, unit);
+        throw invalid_input(option + msg);
+    }
+    return v;
+}
+
+/// Refuses, before the work starts, a run whose estimated peak memory exceeds the --max-memory
+/// limit (GiB): invalid_input (exit 2) with the estimate, naming what needs it and the option that
+/// raises the limit.
+inline void require_memory(double bytes, double max_gib, const std::string& what) {
+    const double gib = bytes / double(1ull << 30);
+    if (!(gib <= max_gib)) {
+        char msg[128];
+        std::snprintf(msg, sizeof msg, " needs about %.3g GiB of memory, above --max-memory %.3g GiB (raise it if the machine has more)", gib,
+                      max_gib);
+        throw invalid_input(what + msg);
+    }
+}
+
+/// Refuses a run whose estimated work `units` exceeds `limit` (the value of `option`): the message
+/// gives the estimate, its duration at `rate_per_second` units/s on one core of the reference
+/// machine (docs/tools.md), the option that raises the limit, and `hint` (another way) if given.
+inline void require_work(double units, double limit, double rate_per_second, const char* unit, const char* option, const std::string& what,
+                         const std::string& hint = "") {
+    if (!(units <= limit)) {
+        const double hours = units / rate_per_second / 3600.0;
+        char msg[256];
+        std::snprintf(msg, sizeof msg, " needs about %.3g %s (%.3g h of one core), above %s %.3g (raise it to run anyway", units, unit, hours, option,
+                      limit);
+        throw invalid_input(what + msg + (hint.empty() ? "" : "; " + hint) + ")");
+    }
+}
+
+/// The --max-memory option every tool with large work has (GiB, default 16).
+inline CLI::Option* add_memory_limit(CLI::App& app, double& max_gib) {
+    return app.add_option("--max-memory", max_gib, "refuse runs estimated to need more memory than this (GiB)")->check(CLI::PositiveNumber);
 }
 
 /// Progress on stderr: a live percentage when stderr is a terminal, otherwise one plain line per

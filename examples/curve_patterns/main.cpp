@@ -40,6 +40,7 @@
 #include <utility>
 #include <vector>
 
+#include "output_set.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -92,13 +93,27 @@ int main(int argc, char** argv) {
         tool::check_outputs({exemplar_path, curve_path}, {svg_out, stl_out, png_out, threemf_out});
         const int shapes_given = !curve_path.empty() + line_length.has_value() + circle_radius.has_value() + !rect.empty();
         if (shapes_given != 1) throw invalid_input("give exactly one of --curve, --line, --circle, --rect");
-        require_positive(height, "--height");
-        require_positive(thickness, "--thickness");
+        // Lengths between 1 um and 100 m, and bands at most 1e5 heights long: beyond, the geometry's
+        // tolerances (relative to the band height) underflow or overflow.
+        constexpr double min_mm = 1e-3, max_mm = 1e5, max_heights = 1e5;
+        tool::require_range(height, min_mm, max_mm, "--height", "mm");
+        tool::require_range(thickness, min_mm, max_mm, "--thickness", "mm");
         if (tolerance == 0.0) tolerance = height / 1000.0;
-        require_positive(tolerance, "--tolerance");
+        tool::require_range(tolerance, 1e-3 * min_mm, height, "--tolerance", "mm (at most --height)");
+        auto require_band_length = [&](double length, const char* option) {
+            tool::require_range(length, min_mm, max_heights * height, option, "mm (at most 1e5 x --height)");
+        };
+        if (line_length) require_band_length(*line_length, "--line length");
+        if (circle_radius) require_band_length(2 * 3.14159265358979 * tool::require_range(*circle_radius, min_mm, max_mm, "--circle", "mm"), "--circle length");
+        if (rect.size() == 2) require_band_length(rect[0], "--rect width"), tool::require_range(rect[1], min_mm, max_mm, "--rect height", "mm");
         if (!(beta >= 0.0) || !std::isfinite(beta)) throw invalid_input("--beta must be finite and >= 0");
         if (closed && (line_length || !rect.empty())) throw invalid_input("--closed applies to --curve (a --circle is always closed)");
         if (slicing != "reeb" && slicing != "uniform") throw invalid_input("--slicing must be reeb or uniform, got '" + slicing + "'");
+        tool::output_set outputs;  // the files appear together at the end of a successful run
+        const fs::path svg_file = outputs.add(svg_out), stl_file = outputs.add(stl_out), png_file = outputs.add(png_out);
+#if defined(FABSYNTH_HAS_LIB3MF)
+        const fs::path threemf_file = outputs.add(threemf_out);
+#endif
 
         // Exemplar, scaled to the band height.
         progress(0.0, "read exemplar");
@@ -157,6 +172,7 @@ int main(int argc, char** argv) {
             // Necessary before any synthesis: the exemplar itself (|v| <= H/2) must fit the band.
             curve->check_band(0.5 * height);
             so.length = curve->length();
+            if (!curve_path.empty()) require_band_length(so.length, "--curve length");
             so.closed = curve->closed();
             if (so.closed_loop && !so.closed) throw invalid_input("--closed-loop needs a closed curve (--circle, or --curve with --closed)");
             res = vector_pattern::synthesize_along(ex, so);
@@ -180,13 +196,13 @@ int main(int argc, char** argv) {
         const image8 png = vector_pattern::preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
 
         progress(0.9, "write");
-        if (!svg_out.parent_path().empty()) fs::create_directories(svg_out.parent_path());
-        io::write_svg(svg_out, doc);
-        io::write_stl(stl_out, mesh);
+        io::write_svg(svg_file, doc);
+        io::write_stl(stl_file, mesh);
 #if defined(FABSYNTH_HAS_LIB3MF)
-        io::write_3mf(threemf_out, mesh, {.name = svg_out.stem().string()});
+        io::write_3mf(threemf_file, mesh, {.name = svg_out.stem().string()});
 #endif
-        io::write_png(png_out, png);
+        io::write_png(png_file, png);
+        outputs.commit();
 
         std::size_t rings = 0;
         for (const auto& p : drawn) rings += 1 + p.holes.size();

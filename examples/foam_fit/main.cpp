@@ -21,6 +21,7 @@
 // Outputs are written only at the end, after every check passed (the cache after each sample).
 // Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -35,10 +36,16 @@
 #include <fabsynth/io/detail/atomic_file.hpp>
 #include <fabsynth/io/image.hpp>
 
+#include "output_set.hpp"
 #include "plot.hpp"
 #include "tool.hpp"
 
 namespace {
+// Wall seconds of one sample on the reference machine (2 threads, benchmarks/README.md "Tool
+// limits"): E^3 (fem + coverage s^3), fitted to 60^3 s = 4 (15.1 s) and 32^3 s = 8 (3.1 s); and
+// the peak bytes per element of its multigrid solve.
+constexpr double fem_seconds_per_element = 6.6e-5, coverage_seconds_per_sample = 5.7e-8, bytes_per_element = 1000;
+
 // The sample cache file, if it exists (an absent cache is an empty one).
 fabsynth::foam::sample_cache read_cache(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -94,6 +101,10 @@ int main(int argc, char** argv) {
     app.add_option("--header", header_path, "generated coefficients header to write");
     app.add_option("--plot", plot_path, "PNG plot to write");
     app.add_option("--cache", cache_path, "sample cache (reused and extended; lets a run resume)");
+    double max_memory_gib = 16, max_hours = 24;
+    tool::add_memory_limit(app, max_memory_gib);
+    app.add_option("--max-hours", max_hours, "refuse runs estimated to take longer than this (hours on 2 cores; cached samples count as free)")
+        ->check(CLI::PositiveNumber);
     return tool::run(app, common, argc, argv, [&] {
         tool::check_outputs({cache_path}, {csv_path, header_path, plot_path});
         c.fit = objective == "absolute" ? foam::fit_error::absolute : foam::fit_error::relative;
@@ -125,8 +136,20 @@ int main(int argc, char** argv) {
         if (!header_path.empty() && c.pairs.size() * static_cast<std::size_t>(c.seeds_per_pair) < polynomial_terms)
             throw invalid_input("foam_fit: --header needs at least " + std::to_string(polynomial_terms) + " samples for the degree-4 fit, the grid has " +
                                 std::to_string(c.pairs.size() * static_cast<std::size_t>(c.seeds_per_pair)));
+        const double per_element = static_cast<double>(c.elements) * c.elements * c.elements;
+        tool::require_memory(per_element * bytes_per_element, max_memory_gib, "a sample of --elements " + std::to_string(c.elements));
         foam::sample_cache cache;
         if (!cache_path.empty()) cache = read_cache(cache_path);
+        const double s3 = static_cast<double>(c.supersample) * c.supersample * c.supersample;
+        const double samples = static_cast<double>(c.pairs.size()) * c.seeds_per_pair - static_cast<double>(cache.size());
+        const double hours = std::max(0.0, samples) * per_element * (fem_seconds_per_element + coverage_seconds_per_sample * s3) / 3600.0;
+        tool::require_work(hours, max_hours, 1.0 / 3600.0, "hours on 2 cores", "--max-hours",
+                           std::to_string(c.pairs.size() * static_cast<std::size_t>(c.seeds_per_pair)) + " samples of " + std::to_string(c.elements) +
+                               "^3 elements, supersample " + std::to_string(c.supersample));
+        tool::output_set outputs;  // the three outputs appear together at the end
+        const std::filesystem::path csv_file = csv_path.empty() ? std::filesystem::path() : outputs.add(csv_path),
+                                    header_file = header_path.empty() ? std::filesystem::path() : outputs.add(header_path),
+                                    plot_file = plot_path.empty() ? std::filesystem::path() : outputs.add(plot_path);
         auto progress = [&](const foam::homogenized_sample& r, std::size_t index, std::size_t total, bool computed) {
             if (computed && !cache_path.empty()) io::detail::atomic_write(cache_path, foam::format_sample_cache(cache));
             char buf[320];
@@ -139,9 +162,10 @@ int main(int argc, char** argv) {
             if (!common.quiet()) std::cerr << buf << std::endl;
         };
         const foam::elasticity_fit_report r = foam::run_elasticity_fit(c, &cache, progress);
-        if (!csv_path.empty()) io::detail::atomic_write(csv_path, foam::format_samples_csv(r.samples));
-        if (!header_path.empty()) io::detail::atomic_write(header_path, foam::format_elasticity_fit_header(c, r));
-        if (!plot_path.empty()) io::write_png(plot_path, foam_fit_plot::draw_plot(c, r));
+        if (!csv_path.empty()) io::detail::atomic_write(csv_file, foam::format_samples_csv(r.samples));
+        if (!header_path.empty()) io::detail::atomic_write(header_file, foam::format_elasticity_fit_header(c, r));
+        if (!plot_path.empty()) io::write_png(plot_file, foam_fit_plot::draw_plot(c, r));
+        outputs.commit();
         std::ostringstream out;
         char buf[512];
         std::snprintf(buf, sizeof buf, "samples %zu (%zu pairs x %d seeds), %d^3 elements, supersample %d\n", r.samples.size(), c.pairs.size(),

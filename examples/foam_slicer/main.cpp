@@ -23,7 +23,9 @@
 // DIR/slices.json (pixel size, layer height, origin, count and file of every slice, written
 // last: a stack without it is incomplete), DIR/preview.png, optional DIR/foam.stl (marching cubes
 // of the sub-box; also foam.3mf where lib3mf is available) and DIR/beams.vtk (beam network: lines
-// + radius per line). Every option is checked before the first file is written.
+// + radius per line). Every option is checked, and the stack's memory and pixel evaluations are
+// estimated (--max-memory, --max-pixels), before any work; the files move into DIR together at
+// the end (examples/common/output_set.hpp).
 // Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
 
 #include <fabsynth/foam.hpp>
@@ -49,6 +51,7 @@
 #include <string>
 #include <vector>
 
+#include "output_set.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -86,6 +89,11 @@ value_field field_from(const foam_args& a) {
     if (f.x0 == f.x1) throw invalid_input("--density-x: X0 and X1 must differ");
     return {f};
 }
+
+// Pixel evaluations per second of one core of the reference machine (benchmarks/README.md, foam
+// slicing), only to turn a refused stack into hours in the message; and the bytes a seed costs in
+// memory (its vec3 and its CSV line).
+constexpr double slice_pixels_per_second = 6e6, bytes_per_seed = 96;
 
 // A box given as X0 Y0 Z0 X1 Y1 Z1 on the command line; refused unless finite with X0 < X1 etc.
 box3 box_option(const std::vector<double>& v, const char* option) {
@@ -144,6 +152,10 @@ int main(int argc, char** argv) {
     slice_cmd->add_option("--stl-voxel", stl_voxel, "marching-cubes sample spacing for --stl-box, mm");
     slice_cmd->add_option("--beams-box", beams_box, "X0 Y0 Z0 X1 Y1 Z1: export the beam network as beams.vtk")
         ->expected(6);
+    double max_memory_gib = 16, max_pixels = 1e11;
+    tool::add_memory_limit(app, max_memory_gib);
+    slice_cmd->add_option("--max-pixels", max_pixels, "refuse stacks needing more pixel evaluations than this (slices x pixels x supersample^2)")
+        ->check(CLI::PositiveNumber);
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
@@ -151,9 +163,17 @@ int main(int argc, char** argv) {
             tool::check_outputs({points}, {out});
             const density_field rho{field_from(fa)};
             const voronoi_foam f(rho, constant_field{fa.radius}, {.cell = fa.cell, .seed = fa.seed});
+            tool::output_set outputs;
+            const fs::path out_file = outputs.add(out);
             if (seeds_cmd->parsed()) {
-                const std::vector<vec3> seeds = f.seeds().seeds_in_box(box_option(box, "--box"));
-                io::write_points_csv(out, seeds);
+                const box3 b = box_option(box, "--box");
+                const double rho_max = fa.density_x.size() == 4 ? std::max(fa.density_x[0], fa.density_x[1]) : fa.density;
+                const vec3 e = b.size();
+                tool::require_memory(rho_max * e.x * e.y * e.z * bytes_per_seed, max_memory_gib,
+                                     "--box with up to " + std::to_string(rho_max * e.x * e.y * e.z) + " seeds");
+                const std::vector<vec3> seeds = f.seeds().seeds_in_box(b);
+                io::write_points_csv(out_file, seeds);
+                outputs.commit();
                 common.say("foam_slicer seeds: " + std::to_string(seeds.size()) + " seeds -> " + out);
                 common.summary({{"command", "seeds"}, {"seeds", seeds.size()}, {"outputs", {out}}});
             } else {
@@ -165,7 +185,8 @@ int main(int argc, char** argv) {
                 text.reserve(2 * pts.size());
                 std::size_t inside = 0;
                 for (char c : r) text += c, text += '\n', inside += c == '1';
-                io::detail::atomic_write(out, text);
+                io::detail::atomic_write(out_file, text);
+                outputs.commit();
                 common.say("foam_slicer eval: " + std::to_string(inside) + " of " + std::to_string(pts.size()) + " points solid -> " + out);
                 common.summary({{"command", "eval"}, {"points", pts.size()}, {"solid", inside}, {"outputs", {out}}});
             }
@@ -186,6 +207,10 @@ int main(int argc, char** argv) {
         const fs::path dir(out_dir);
         tool::check_outputs({mesh_path, field_image},
                             {dir / "preview.png", dir / "slices.json", dir / "foam.stl", dir / "foam.3mf", dir / "beams.vtk"});
+        if (stl_region) {  // marching-cubes samples of the sub-box (a float per sample and the mesh)
+            const vec3 e = stl_region->size() / stl_voxel;
+            tool::require_memory((e.x + 2) * (e.y + 2) * (e.z + 2) * 16.0, max_memory_gib, "--stl-box at --stl-voxel " + std::to_string(stl_voxel));
+        }
         progress(0.0, "read mesh");
         triangle_mesh mesh = io::read_mesh(mesh_path);
         validate(mesh, mesh_path.c_str());
@@ -232,6 +257,16 @@ int main(int argc, char** argv) {
         const framed_foam obj(foam, md, fo);
 
         const box3 bb = bounding_box(mesh);
+        {  // the cost of the stack, before it is planned (a 0.003 mm pixel over 40 mm is 2e12 evaluations)
+            const double layers = std::max(1.0, std::floor(bb.size().z / (layer > 0 ? layer : pixel)));
+            const double slices = nslices > 0 ? std::min<double>(nslices, layers) : layers;
+            const double px = std::ceil(bb.size().x / pixel + 2) * std::ceil(bb.size().y / pixel + 2);
+            char what[160];
+            std::snprintf(what, sizeof what, "a stack of %.0f slices of %.3g pixels (%.3g mm) at supersample %d", slices, px, pixel, supersample);
+            // a slice, the four preview copies, the PNG encoder's buffer and the side-by-side preview
+            tool::require_memory(px * (2.0 + 4 + 2 + 4), max_memory_gib, what);
+            tool::require_work(slices * px * supersample * supersample, max_pixels, slice_pixels_per_second, "pixel evaluations", "--max-pixels", what);
+        }
         const slice_stack stack = plan_slice_stack(bb, pixel, layer, nslices);
         const box2& region = stack.region;
         const std::vector<int>& which = stack.selected;
@@ -242,12 +277,20 @@ int main(int argc, char** argv) {
             slice_files.push_back(dir / name);
         }
         tool::check_outputs({mesh_path, field_image}, slice_files);
+        // Every file is staged and moves into DIR only when the whole set is written; slices.json,
+        // the manifest of a complete stack, goes last (and the previous one first).
+        tool::output_set outputs;
+        std::vector<fs::path> staged_slices;
+        for (const fs::path& p : slice_files) staged_slices.push_back(outputs.add(p));
+        const fs::path preview_png = outputs.add(dir / "preview.png"), foam_stl = outputs.add(dir / "foam.stl"),
+                       beams_vtk = outputs.add(dir / "beams.vtk"), manifest_json = outputs.add_manifest(dir / "slices.json");
+#if defined(FABSYNTH_HAS_LIB3MF)
+        const fs::path foam_3mf = outputs.add(dir / "foam.3mf");
+#endif
         const slice_options so{.supersample = supersample};
         std::uint64_t pixels = 0, solid = 0;
         double total_ms = 0;
         std::vector<image8> preview;
-        fs::create_directories(out_dir);
-        fs::remove(fs::path(out_dir) / "slices.json");  // the manifest marks a complete stack: written last
         nlohmann::ordered_json files = nlohmann::ordered_json::array();
         for (std::size_t s = 0; s < which.size(); ++s) {
             const double z = stack.z(which[s]);
@@ -258,7 +301,7 @@ int main(int argc, char** argv) {
             for (auto v : img.data) solid += v;
             char name[64];
             std::snprintf(name, sizeof name, "slice_%05d.png", which[s]);
-            io::write_png(fs::path(out_dir) / name, img, {.pixel_mm = pixel});
+            io::write_png(staged_slices[s], img, {.pixel_mm = pixel});
             files.push_back({{"layer", which[s]}, {"z_mm", z}, {"file", name}});
             // preview: 4 slices spread over the stack
             if (preview.size() < 4 && s == (preview.size() * which.size()) / 4) preview.push_back(img);
@@ -266,14 +309,14 @@ int main(int argc, char** argv) {
         }
         // preview: up to 4 slices side by side, +y up
         if (!preview.empty())
-            io::write_png(fs::path(out_dir) / "preview.png", side_by_side(preview, 4, std::uint8_t{128}, true), {.pixel_mm = pixel});
+            io::write_png(preview_png, side_by_side(preview, 4, std::uint8_t{128}, true), {.pixel_mm = pixel});
         std::size_t stl_triangles = 0, beam_count = 0;
         if (stl_region) {
             progress(0.0, "foam.stl");
             const triangle_mesh m = framed_foam_mesh(obj, *stl_region, stl_voxel);
-            io::write_mesh(fs::path(out_dir) / "foam.stl", m);
+            io::write_mesh(foam_stl, m);
 #if defined(FABSYNTH_HAS_LIB3MF)
-            io::write_3mf(fs::path(out_dir) / "foam.3mf", m, {.name = "foam"});
+            io::write_3mf(foam_3mf, m, {.name = "foam"});
 #endif
             stl_triangles = m.faces.size();
             if (!common.quiet()) std::cerr << "foam.stl: " << m.faces.size() << " triangles\n";
@@ -282,7 +325,7 @@ int main(int argc, char** argv) {
             const beam_network net = extract_beams(foam, *beams_region);
             std::vector<io::vtk_cell> cells;
             for (const auto& e : net.edges) cells.push_back({io::vtk_cell_type::line, {e[0], e[1]}});
-            io::write_vtk_unstructured(fs::path(out_dir) / "beams.vtk", net.nodes, cells, {},
+            io::write_vtk_unstructured(beams_vtk, net.nodes, cells, {},
                                        {io::vtk_field{"radius", 1, net.radii}}, io::encoding::ascii);
             beam_count = net.edges.size();
             if (!common.quiet()) std::cerr << "beams.vtk: " << net.nodes.size() << " nodes, " << net.edges.size() << " beams\n";
@@ -295,7 +338,8 @@ int main(int argc, char** argv) {
                                                  {"value", "255 = solid, 0 = empty (grey levels with --supersample)"},
                                                  {"count", files.size()},
                                                  {"slices", files}};
-        io::detail::atomic_write(fs::path(out_dir) / "slices.json", manifest.dump(2) + "\n");
+        io::detail::atomic_write(manifest_json, manifest.dump(2) + "\n");
+        outputs.commit();
         const double ms = total_ms / static_cast<double>(which.size());
         const double solid_percent = 100.0 * double(solid) / 255.0 / double(std::max<std::uint64_t>(1, pixels));
         char line[256];

@@ -19,12 +19,22 @@
 #include <fabsynth/voxel/preview.hpp>
 
 #include <chrono>
+#include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
 #include <string>
 
+#include "output_set.hpp"
 #include "tool.hpp"
+
+namespace {
+// Peak bytes per voxel of the six periodic solves, measured with /usr/bin/time on 48^3 and 96^3
+// lattices (benchmarks/README.md, "Tool limits"), rounded up: matrix-free multigrid (every level's
+// vectors and element data) and Jacobi-CG (the fine level only).
+constexpr double multigrid_bytes_per_voxel = 1000, jacobi_bytes_per_voxel = 360;
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"Periodic homogenization of a voxel density grid (legacy VTK STRUCTURED_POINTS)", "homogenize"};
@@ -42,9 +52,19 @@ int main(int argc, char** argv) {
     app.add_option("--min-density", min_density, "stiffness floor for solid voxels (density > 0)")->capture_default_str();
     app.add_option("--threads", threads, "worker threads (0 = all cores)")->capture_default_str();
     app.add_option("--preview", preview, "write a PNG of the three mid-plane slices of the densities");
+    double max_memory_gib = 16;
+    fabsynth::tool::add_memory_limit(app, max_memory_gib);
 
     return fabsynth::tool::run(app, common, argc, argv, [&] {
         fabsynth::tool::check_outputs({input}, {preview});
+        if (!(std::isfinite(E) && E > 0)) throw fabsynth::invalid_input("--E must be a finite modulus > 0 MPa");
+        if (!(nu > -1 && nu < 0.5)) throw fabsynth::invalid_input("--nu must lie in (-1, 0.5)");
+        if (!(tol > 0 && tol < 1)) throw fabsynth::invalid_input("--tol must lie in (0, 1)");
+        if (!(std::isfinite(penalty) && penalty > 0)) throw fabsynth::invalid_input("--penalty must be finite and > 0");
+        if (!(min_density >= 0 && min_density < 1)) throw fabsynth::invalid_input("--min-density must lie in [0, 1)");
+        const auto voxel_solver = fabsynth::fem::parse_voxel_solver(solver);
+        fabsynth::tool::output_set outputs;  // the preview appears only after a successful solve
+        const std::filesystem::path preview_staged = preview.empty() ? std::filesystem::path() : outputs.add(preview);
         fabsynth::set_num_threads(threads);
         const auto t0 = std::chrono::steady_clock::now();
         const fabsynth::io::structured_points sp = fabsynth::io::read_vtk_structured_points(input);
@@ -60,21 +80,27 @@ int main(int argc, char** argv) {
         if (sp.cell_data)
             for (int a = 0; a < 3; ++a) dims[a] = std::max(sp.dims[a] - 1, 1);
         const fabsynth::fem::density_view grid(dims, sp.spacing, f->values);
+        const double voxels = static_cast<double>(dims.x) * dims.y * dims.z;
+        fabsynth::tool::require_memory(voxels * (voxel_solver == fabsynth::fem::voxel_solver::jacobi ? jacobi_bytes_per_voxel : multigrid_bytes_per_voxel),
+                                       max_memory_gib, "homogenizing " + std::to_string(dims.x) + "x" + std::to_string(dims.y) + "x" + std::to_string(dims.z) +
+                                                           " voxels with --solver " + solver);
         std::ostringstream head;
         head << "homogenize: " << input << ": " << dims.x << "x" << dims.y << "x" << dims.z << " voxels ("
                   << (sp.cell_data ? "CELL_DATA" : "POINT_DATA") << " '" << f->name << "'), E = " << E << " MPa, nu = " << nu;
         if (!common.quiet()) std::cerr << head.str() << "\n";
 
         fabsynth::fem::homogenization_options opt;
-        opt.solver.solver = fabsynth::fem::parse_voxel_solver(solver);
+        opt.solver.solver = voxel_solver;
         opt.solver.tolerance = tol;
         opt.law = {.penalty = penalty, .min_density = min_density};
         const auto r = fabsynth::fem::homogenize(grid, {E, nu}, opt, common.progress());
         const auto fit = fabsynth::fem::fit_isotropic(r.C, E);
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-        // The preview only after a successful solve: a failed run leaves no output behind.
-        if (!preview.empty()) fabsynth::io::write_png(preview, fabsynth::mid_plane_slices(dims, [&](fabsynth::ivec3 p) { return grid.get(p); }));
+        if (!preview.empty()) {
+            fabsynth::io::write_png(preview_staged, fabsynth::mid_plane_slices(dims, [&](fabsynth::ivec3 p) { return grid.get(p); }));
+            outputs.commit();
+        }
         nlohmann::ordered_json C = nlohmann::ordered_json::array();
         for (int i = 0; i < 6; ++i) {
             nlohmann::ordered_json row = nlohmann::ordered_json::array();

@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "output_set.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -181,7 +182,7 @@ int main(int argc, char** argv) {
     app.add_flag("--stages", stages, "also write solid_connected.vtk and solid_forces.vtk (Table 3 stages)");
     app.add_flag("--validate", validate, "full-resolution voxel FEM of the result (and of the stages): stress statistics in report.json");
     app.add_flag("--no-structure", no_structure, "appearance only, no structural optimization");
-    app.add_option("--max-memory", max_memory_gib, "refuse runs estimated to need more memory than this (GiB)")->check(CLI::PositiveNumber);
+    tool::add_memory_limit(app, max_memory_gib);
     app.add_option("-o,--output", out_dir, "output directory")->required();
 
     return tool::run(app, common, argc, argv, [&] {
@@ -208,14 +209,15 @@ int main(int argc, char** argv) {
         if (validate) {
             // the voxel FEM needs ~0.7 KB per node of the analysed box (validation.hpp): refuse before working
             const double nodes = std::pow(static_cast<double>(resolution) + 1, 3);
-            const double need = 700.0 * nodes;
-            if (need > max_memory_gib * double(1ull << 30)) {
-                char msg[240];
-                std::snprintf(msg, sizeof msg, "--validate at --resolution %d needs about %.1f GiB (voxel FEM), above --max-memory %.1f GiB", resolution,
-                              need / double(1ull << 30), max_memory_gib);
-                throw invalid_input(msg);
-            }
+            tool::require_memory(700.0 * nodes, max_memory_gib, "--validate at --resolution " + std::to_string(resolution) + " (voxel FEM)");
         }
+
+        // Staged now (an unwritable OUTDIR is refused before the work), moved into OUTDIR together at
+        // the end; report.json, which describes the set, goes last.
+        tool::output_set files;
+        const fs::path stl_file = files.add(stl), shell_file = files.add(shell_vtk), solid_file = files.add(solid_vtk),
+                       preview_file = files.add(preview), connected_file = files.add(connected_vtk), forces_file = files.add(forces_vtk),
+                       report_file = files.add_manifest(report);
 
         progress(0.0, "read inputs");
         const triangle_mesh mesh = io::read_mesh(mesh_path);
@@ -326,7 +328,6 @@ int main(int argc, char** argv) {
         // everything is computed: write the set
         progress(0.9, "write");
         t = clock_type::now();
-        fs::create_directories(out);
         std::size_t shell_solid = 0;
         {
             std::vector<double> st(static_cast<std::size_t>(l0.geometry.count()), 0.0);
@@ -334,18 +335,18 @@ int main(int argc, char** argv) {
                 st[static_cast<std::size_t>(l0.geometry.index(l0.voxels[v]))] = state[v];
                 shell_solid += result.solid[v];
             }
-            io::write_vtk(shell_vtk, byte_grid(l0.geometry, "state", std::move(st)));
+            io::write_vtk(shell_file, byte_grid(l0.geometry, "state", std::move(st)));
         }
         auto write_solid = [&](const fs::path& path, const sp::voxel_set& vs) {
             std::vector<double> sv(static_cast<std::size_t>(l0.geometry.count()), 0.0);
             for (const ivec3& p : vs.voxels) sv[static_cast<std::size_t>(l0.geometry.index(p))] = 1.0;
             io::write_vtk(path, byte_grid(l0.geometry, "solid", std::move(sv)));
         };
-        write_solid(solid_vtk, thick);
-        if (stage_connected) write_solid(connected_vtk, *stage_connected);
-        if (stage_forces) write_solid(forces_vtk, *stage_forces);
-        io::write_mesh(stl, pattern);
-        io::write_png(preview, picture);
+        write_solid(solid_file, thick);
+        if (stage_connected) write_solid(connected_file, *stage_connected);
+        if (stage_forces) write_solid(forces_file, *stage_forces);
+        io::write_mesh(stl_file, pattern);
+        io::write_png(preview_file, picture);
         const double t_write = since(t);
 
         nlohmann::ordered_json levels_json = nlohmann::ordered_json::array();
@@ -398,7 +399,8 @@ int main(int argc, char** argv) {
         rep["timings"] = {{"voxelize", t_voxelize}, {"synthesis", t_synthesis}, {"structural_analysis", t_structure}, {"resynthesis", t_resynthesis},
                           {"fabrication", t_fabrication}, {"validation", t_validation}, {"preview", t_preview}, {"write", t_write}, {"total", total}};
         rep["seed"] = seed;
-        io::detail::atomic_write(report, rep.dump(2) + "\n");
+        io::detail::atomic_write(report_file, rep.dump(2) + "\n");
+        files.commit();
         progress(1.0, "write");
 
         char line[640];

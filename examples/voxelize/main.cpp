@@ -4,7 +4,8 @@
 // floats), OUTDIR/solid.stl (marching cubes of the solid voxels: watertight; also solid.3mf where
 // lib3mf is available) and OUTDIR/slices.png (z-slices: shell coloured by normal | solid), and
 // prints a one-line summary (--json: a JSON summary). The memory the run needs is estimated
-// before anything is allocated and refused above --max-memory. Conventions (exit codes, --quiet,
+// before anything is allocated and refused above --max-memory; the four files appear together at
+// the end of a successful run (examples/common/output_set.hpp). Conventions (exit codes, --quiet,
 // --json, --version): docs/tools.md.
 #include <fabsynth/core.hpp>
 #include <fabsynth/geometry/marching_cubes.hpp>
@@ -22,6 +23,7 @@
 #include <filesystem>
 #include <string>
 
+#include "output_set.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -63,7 +65,7 @@ int main(int argc, char** argv) {
     app.add_option("--slices", slices, "z-slices shown in slices.png")->check(CLI::Range(1, 16));
     app.add_option("-o,--output", out_dir, "output directory")->required();
     double max_memory_gib = 16;
-    app.add_option("--max-memory", max_memory_gib, "refuse runs estimated to need more memory than this (GiB)")->check(CLI::PositiveNumber);
+    tool::add_memory_limit(app, max_memory_gib);
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
@@ -74,13 +76,15 @@ int main(int argc, char** argv) {
         const triangle_mesh mesh = io::read_mesh(mesh_path);
         if (mesh.empty()) throw invalid_input(mesh_path + ": mesh has no faces");
         const grid_geometry g = fit_grid(bounding_box(mesh), resolution, padding);
-        const double estimate_gib = static_cast<double>(g.count()) * bytes_per_voxel / double(1ull << 30);
-        if (estimate_gib > max_memory_gib) {
-            char msg[256];
-            std::snprintf(msg, sizeof msg, "--resolution %d: a %dx%dx%d grid needs about %.1f GiB, more than --max-memory %.3g GiB", resolution,
-                          g.dims.x, g.dims.y, g.dims.z, estimate_gib, max_memory_gib);
-            throw invalid_input(msg);
-        }
+        char what[96];
+        std::snprintf(what, sizeof what, "--resolution %d: a %dx%dx%d grid", resolution, g.dims.x, g.dims.y, g.dims.z);
+        tool::require_memory(static_cast<double>(g.count()) * bytes_per_voxel, max_memory_gib, what);
+        tool::output_set outputs;  // nothing reaches OUTDIR before commit()
+        const fs::path shell_vtk = outputs.add(out / "shell.vtk"), solid_stl = outputs.add(out / "solid.stl"),
+                       slices_png = outputs.add(out / "slices.png");
+#if defined(FABSYNTH_HAS_LIB3MF)
+        const fs::path solid_3mf = outputs.add(out / "solid.3mf");
+#endif
         progress(0.1, "surface voxels");
         const shell_grid shell = voxelize_surface(mesh, g);
         progress(0.4, "solid voxels");
@@ -91,13 +95,13 @@ int main(int argc, char** argv) {
         const auto topo = analyze_topology(remesh);
 
         progress(0.8, "write");
-        fs::create_directories(out_dir);
-        io::write_vtk(fs::path(out_dir) / "shell.vtk", to_vtk(shell, solid));
-        io::write_mesh(fs::path(out_dir) / "solid.stl", remesh);
+        io::write_vtk(shell_vtk, to_vtk(shell, solid));
+        io::write_mesh(solid_stl, remesh);
 #if defined(FABSYNTH_HAS_LIB3MF)
-        io::write_3mf(fs::path(out_dir) / "solid.3mf", remesh, {.name = fs::path(mesh_path).stem().string()});
+        io::write_3mf(solid_3mf, remesh, {.name = fs::path(mesh_path).stem().string()});
 #endif
-        io::write_png(fs::path(out_dir) / "slices.png", shell_solid_slices(shell, solid, slices));
+        io::write_png(slices_png, shell_solid_slices(shell, solid, slices));
+        outputs.commit();
         progress(1.0, "write");
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 

@@ -320,3 +320,32 @@ TEST_CASE("large-shell methods converge to the clamped plate table", "[fem][shel
         }
     }
 }
+
+TEST_CASE("the symbolic analysis predicts the direct factor before it is computed", "[fem][solvers][context]") {
+    const problem p = cantilever(24, 5);
+    solve_context ldlt(p.m, p.lc, with(solver_method::ldlt));
+    const solve_statistics before = ldlt.statistics();
+    CHECK(before.factorizations == 0);
+    REQUIRE(before.predicted_factor_bytes > 0);
+    REQUIRE(before.predicted_factor_flops > 0);
+    (void)ldlt.solve(p.lc);
+    // the numeric factor has exactly the predicted entries (a double and an int index each)
+    CHECK(before.predicted_factor_bytes == ldlt.statistics().stored_entries * 12.0);
+    // at least one operation per entry and at most (entries per column)^2 per column
+    CHECK(before.predicted_factor_flops >= ldlt.statistics().stored_entries);
+    CHECK(before.predicted_factor_flops <= ldlt.statistics().stored_entries * static_cast<double>(before.free_dofs));
+    if (method_available(solver_method::cholmod)) {
+        // CHOLMOD counts the operations of its own (supernodal, own ordering) analysis: the same order
+        solve_context cm(p.m, p.lc, with(solver_method::cholmod));
+        const double ratio = cm.statistics().predicted_factor_flops / before.predicted_factor_flops;
+        CHECK(ratio > 0.5);
+        CHECK(ratio < 2.0);
+        (void)cm.solve(p.lc);
+        CHECK(cm.statistics().predicted_factor_bytes == cm.statistics().stored_entries * 8.0);
+    }
+    for (solver_method m : {solver_method::cg, solver_method::cg_jacobi, solver_method::amg}) {
+        solve_context it(p.m, p.lc, with(m));
+        CHECK(it.statistics().predicted_factor_bytes == 0);
+        CHECK(it.statistics().predicted_factor_flops == 0);
+    }
+}

@@ -154,4 +154,14 @@ TEST_CASE("sample cache text round-trips", "[foam][elasticity_fit]") {
     CHECK(format_sample_cache(back) == text);
     CHECK_THROWS_AS(parse_sample_cache("rho,tau\n", "cache"), io_error);
     CHECK_THROWS_AS(parse_sample_cache(text + "1,2,3\n", "cache"), io_error);
+    // a NaN modulus (a hand-edited or corrupted cache) is refused at its line, not copied into the fit
+    const std::size_t head_end = text.find('\n') + 1;
+    std::vector<std::string> fields;
+    std::stringstream data(text.substr(head_end, text.find('\n', head_end) - head_end));
+    for (std::string f; std::getline(data, f, ',');) fields.push_back(f);
+    REQUIRE(fields.size() == 14);
+    fields[8] = "nan";  // E
+    std::string poisoned = text.substr(0, head_end);
+    for (std::size_t i = 0; i < fields.size(); ++i) poisoned += (i ? "," : "") + fields[i];
+    CHECK_THROWS_WITH(parse_sample_cache(poisoned + "\n", "cache"), Catch::Contains("cache:2") && Catch::Contains("non-finite"));
 }

@@ -26,4 +26,7 @@ TEST_CASE("slice stack: layers, selected layers, heights and region", "[foam][sl
     CHECK(flat.layers == 1);
     CHECK_THROWS_AS(plan_slice_stack(bb, 0, 0.5, 0), invalid_input);
     CHECK_THROWS_AS(plan_slice_stack(box3(), 0.1, 0.5, 0), invalid_input);
+    CHECK(plan_slice_stack(bb, 0.1, 0.5, 10).selected == all.selected);  // as many slices as layers: every layer
+    CHECK_THROWS_WITH(plan_slice_stack(bb, 0.1, 0.5, 11), Catch::Contains("only 10 layers"));
+    CHECK_THROWS_WITH(plan_slice_stack(box3({0, 0, 0}, {1, 1, 1e300}), 0.1, 0.1, 0), Catch::Contains("too many"));
 }

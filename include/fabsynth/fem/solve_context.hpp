@@ -62,6 +62,10 @@ struct solve_statistics {
     std::string reason;   ///< why automatic chose it (or "requested")
     std::size_t free_dofs = 0, fixed_dofs = 0;
     double stored_entries = 0;  ///< entries of the factor / preconditioner
+    /// Direct methods: the factor's bytes and floating-point operations predicted by the symbolic
+    /// analysis (set by the constructor, before any factorization; 0 for iterative methods), so a
+    /// caller can refuse a factorization that would not fit or not finish.
+    double predicted_factor_bytes = 0, predicted_factor_flops = 0;
     int analyses = 0, factorizations = 0, solves = 0;
     int reused_solves = 0;     ///< solves answered by CG on a previous factorization
     long last_iterations = 0;  ///< CG iterations of the last solve (0 for a direct solve)
@@ -95,6 +99,8 @@ public:
         if (!free_.empty()) backend_->analyze(Kff());
         ++stats_.analyses;
         stats_.analyze_seconds = seconds_since(t1);
+        stats_.predicted_factor_bytes = backend_->predicted_factor_bytes();
+        stats_.predicted_factor_flops = backend_->predicted_factor_flops();
     }
 
     [[nodiscard]] const mesh& model() const noexcept { return m_; }

@@ -12,6 +12,7 @@
 ///   std::string csv = fabsynth::foam::format_samples_csv(report.samples);
 ///   std::vector<fabsynth::foam::elasticity_sample> s = fabsynth::foam::parse_samples_csv(csv, "samples.csv");
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <sstream>
 #include <string>
@@ -104,6 +105,8 @@ inline constexpr const char* sample_cache_head =
         } catch (const std::exception&) {
             throw io_error(source, ln, "malformed number in cache line: " + line);
         }
+        for (double v : {r.s.density, r.s.radius, r.s.volume_fraction, r.s.E, r.s.nu, r.s.anisotropy, r.removed_fraction})
+            if (!std::isfinite(v)) throw io_error(source, ln, "non-finite value in cache line (a cache holds measured samples only): " + line);
         r.cached = true;
         m[f[0] + "," + f[1] + "," + f[2] + "," + f[3] + "," + f[4] + "," + f[5] + "," + f[6]] = r;
     }

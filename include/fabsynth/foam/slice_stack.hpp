@@ -13,6 +13,7 @@
 ///   for (int k : st.selected) image8 s = obj.slice(st.z(k), st.region, st.pixel);
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "fabsynth/core/box.hpp"
@@ -35,9 +36,9 @@ struct slice_stack {
 
 /// Plans the stack through box bb (mm) with square pixels of side `pixel` (> 0) and layers of
 /// height `layer` (<= 0: the pixel size). count > 0 selects count evenly spaced layers (layer
-/// floor((s + 1/2) layers / count) for s = 0..count-1, repeats possible when count > layers);
-/// count <= 0 selects every layer. Throws invalid_input for a non-positive pixel or a box that is
-/// empty or not finite.
+/// floor((s + 1/2) layers / count) for s = 0..count-1); count <= 0 selects every layer. Throws
+/// invalid_input for a non-positive pixel, a box that is empty or not finite, more layers than
+/// an int holds, or count > layers (the stack has fewer distinct layers than asked for).
 [[nodiscard]] inline slice_stack plan_slice_stack(const box3& bb, double pixel, double layer, int count) {
     if (layer <= 0) layer = pixel;
     require_positive(pixel, "foam slice stack pixel size");
@@ -45,7 +46,12 @@ struct slice_stack {
     slice_stack st;
     st.pixel = pixel, st.layer = layer, st.z0 = bb.lo.z;
     st.region = box2(vec2(bb.lo.x, bb.lo.y) - vec2(pixel), vec2(bb.hi.x, bb.hi.y) + vec2(pixel));
-    st.layers = std::max(1, static_cast<int>(std::floor(bb.size().z / layer)));
+    const double layers = std::floor(bb.size().z / layer);
+    if (!(layers < 2e9)) throw invalid_input("foam slice stack: " + std::to_string(layers) + " layers of " + std::to_string(layer) + " mm are too many");
+    st.layers = std::max(1, static_cast<int>(layers));
+    if (count > st.layers)
+        throw invalid_input("foam slice stack: " + std::to_string(count) + " slices asked for, but the stack has only " + std::to_string(st.layers) +
+                            " layers of " + std::to_string(layer) + " mm");
     if (count > 0) {
         for (int s = 0; s < count; ++s) st.selected.push_back(static_cast<int>((s + 0.5) * st.layers / count));
     } else {

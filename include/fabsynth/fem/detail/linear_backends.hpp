@@ -61,6 +61,10 @@ public:
     [[nodiscard]] virtual bool exact() const = 0;
     /// Stored entries of the factor or preconditioner (memory indicator).
     [[nodiscard]] virtual double stored_entries() const = 0;
+    /// Direct methods, after analyze(): the factor's bytes and the factorization's floating-point
+    /// operations, predicted from the symbolic factor (0 for the iterative methods).
+    [[nodiscard]] virtual double predicted_factor_bytes() const { return 0.0; }
+    [[nodiscard]] virtual double predicted_factor_flops() const { return 0.0; }
     /// After the matrix values changed in place: adapt cheaply what can be kept (AMG: the fine
     /// level's diagonal); the result is used as a preconditioner of CG, not as an exact inverse.
     virtual void refresh(const Eigen::SparseMatrix<double>&) {}
@@ -77,6 +81,20 @@ public:
 #endif
     explicit ldlt_backend(double pivot_tolerance) : pivot_tolerance_(pivot_tolerance) {}
     void analyze(const Eigen::SparseMatrix<double>& A) override { s_.analyzePattern(A); }
+    // The symbolic analysis sizes L: column k holds c_k entries below the diagonal, and the
+    // up-looking factorization costs about sum (c_k + 1)^2 operations.
+    [[nodiscard]] double predicted_factor_bytes() const override {
+        return static_cast<double>(s_.symbolic_factor().nonZeros()) * double(sizeof(double) + sizeof(int));
+    }
+    [[nodiscard]] double predicted_factor_flops() const override {
+        const auto& L = s_.symbolic_factor();
+        double flops = 0;
+        for (Eigen::Index k = 0; k < L.outerSize(); ++k) {
+            const double c = static_cast<double>(L.outerIndexPtr()[k + 1] - L.outerIndexPtr()[k]) + 1.0;
+            flops += c * c;
+        }
+        return flops;
+    }
     void factorize(const Eigen::SparseMatrix<double>& A) override {
         s_.factorize(A);
         const Eigen::VectorXd D = s_.vectorD();
@@ -102,7 +120,11 @@ public:
     [[nodiscard]] double stored_entries() const override { return static_cast<double>(s_.matrixL().nestedExpression().nonZeros()); }
 
 private:
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, ordering> s_;
+    struct ldlt : Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, ordering> {
+        /// L's pattern as sized by analyzePattern (values set by factorize).
+        [[nodiscard]] const Eigen::SparseMatrix<double>& symbolic_factor() const { return this->m_matrix; }
+    };
+    ldlt s_;
     double pivot_tolerance_;
 };
 
@@ -131,6 +153,8 @@ private:
             const cholmod_factor* L = this->m_cholmodFactor;
             return L ? static_cast<double>(L->xsize) : 0.0;
         }
+        /// CHOLMOD's flop count of the analysed factorization (cholmod_common::fl).
+        [[nodiscard]] double analysed_flops() { return this->cholmod().fl; }
     };
 
 public:
@@ -138,6 +162,7 @@ public:
         use_huge_pages();
         s_.analyzePattern(A);
         if (s_.info() != Eigen::Success) throw solver_error("CHOLMOD symbolic analysis failed (out of memory?)");
+        flops_ = s_.analysed_flops();
     }
     void factorize(const Eigen::SparseMatrix<double>& A) override {
         const int threads = openblas_get_num_threads ? openblas_get_num_threads() : 0;
@@ -162,6 +187,9 @@ public:
     }
     [[nodiscard]] bool exact() const override { return true; }
     [[nodiscard]] double stored_entries() const override { return s_.factor_entries(); }
+    // The supernodal symbolic factor holds the size of the values (xsize) before factorization.
+    [[nodiscard]] double predicted_factor_bytes() const override { return s_.factor_entries() * double(sizeof(double)); }
+    [[nodiscard]] double predicted_factor_flops() const override { return flops_; }
 
 private:
     static void use_huge_pages() {
@@ -170,6 +198,7 @@ private:
     }
     llt s_;
     double pivot_tolerance_;
+    double flops_ = 0;
 };
 #endif
 

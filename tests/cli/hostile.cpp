@@ -1,0 +1,228 @@
+// The tools under careless and hostile use (docs/tools.md, "Limits" and "Outputs"): work beyond
+// an estimate refused before it starts, outputs that cannot be written refused before the work,
+// and a run killed at any moment leaves the previous outputs whole (or, when it finished first,
+// the complete new set), never a truncated or mixed one.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli_util.hpp"
+
+namespace {
+
+// A cube of n^3 C3D8 elements of 1 mm, the base fixed, a load at the top corner.
+std::string block_deck(int n) {
+    std::string d = "*NODE\n";
+    auto id = [n](int i, int j, int k) { return 1 + i + (n + 1) * (j + (n + 1) * k); };
+    for (int k = 0; k <= n; ++k)
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) d += std::to_string(id(i, j, k)) + "," + std::to_string(i) + "," + std::to_string(j) + "," + std::to_string(k) + "\n";
+    d += "*ELEMENT, TYPE=C3D8, ELSET=E\n";
+    int e = 1;
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                d += std::to_string(e++);
+                for (int v : {id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1), id(i + 1, j, k + 1),
+                              id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)})
+                    d += "," + std::to_string(v);
+                d += "\n";
+            }
+    d += "*NSET, NSET=BASE\n";
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) d += std::to_string(id(i, j, 0)) + "\n";
+    d += "*MATERIAL, NAME=M\n*ELASTIC\n1000, 0.3\n*SOLID SECTION, ELSET=E, MATERIAL=M\n*BOUNDARY\nBASE, 1, 3\n*STEP\n*STATIC\n*CLOAD\n" +
+         std::to_string(id(n, n, n)) + ", 3, -1\n*END STEP\n";
+    return d;
+}
+
+// A periodic lattice of n^3 voxels (beams along the three axes, period 8) as VTK POINT_DATA.
+std::string lattice_vtk(int n) {
+    std::string g = "# vtk DataFile Version 3.0\nlattice\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS " + std::to_string(n) + " " + std::to_string(n) + " " +
+                    std::to_string(n) + "\nORIGIN 0 0 0\nSPACING 1 1 1\nPOINT_DATA " + std::to_string(n * n * n) +
+                    "\nSCALARS density double 1\nLOOKUP_TABLE default\n";
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) g += ((x % 8 < 3) + (y % 8 < 3) + (z % 8 < 3) >= 2) ? "1\n" : "0\n";
+    return g;
+}
+
+// Hidden staging directories (examples/common/output_set.hpp) directly in `dir`.
+std::vector<std::string> staging_dirs(const fs::path& dir) {
+    std::vector<std::string> found;
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+        if (it->path().filename().string().rfind(".fabsynth-stage-", 0) == 0) found.push_back(it->path().string());
+    return found;
+}
+
+// Waits (up to 10 s) until the processes that own the staging directories in `dir` have exited: a
+// SIGKILLed tool may still be tearing down its threads when the shell returns.
+void wait_for_owners(const fs::path& dir) {
+    for (int i = 0; i < 100; ++i) {
+        bool alive = false;
+        for (const std::string& d : staging_dirs(dir)) {
+            const std::string pid = d.substr(d.rfind('-') + 1);
+            std::ifstream stat("/proc/" + pid + "/stat");
+            std::string line;
+            if (std::getline(stat, line) && line.find(") Z") == std::string::npos) alive = true;
+        }
+        if (!alive) return;
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+}
+
+const std::string old_bytes = "previous run\n";
+
+// A tool run that takes a few seconds, its final output files, and where it stages them.
+struct long_run {
+    std::string tool;
+    std::vector<std::string> args;
+    std::vector<fs::path> outputs;
+    fs::path anchor;  // the directory that holds the staging directory
+};
+
+}  // namespace
+
+TEST_CASE("every tool refuses work beyond its estimate before it starts", "[cli][limits]") {
+    const std::string bunny = (data_dir / "meshes/bunny_lowres.obj").string();
+    const std::string deck = write_file("limits_block.inp", block_deck(6));
+    const std::string grid = write_file("limits_lattice.vtk", lattice_vtk(16));
+    const fs::path out = work_dir / "limits_out";
+    fs::remove_all(out);
+    struct row {
+        std::string tool;
+        cli_case c;
+    };
+    for (const row& r : std::vector<row>{
+             {"voxelize", {"a 2048 grid in 0.5 GiB", {bunny, "-r", "2048", "--max-memory", "0.5", "-o", out.string()}, 2, "GiB"}},
+             {"fem_solve", {"LDLT above the flop limit", {deck, "-o", out.string(), "--solver", "ldlt", "--max-factor-flops", "1000"}, 2, "--max-factor-flops"}},
+             {"fem_solve", {"CHOLMOD factor above the memory limit", {deck, "-o", out.string(), "--solver", "cholmod", "--max-memory", "1e-6"}, 2, "GiB"}},
+             {"homogenize", {"six solves above the memory limit", {grid, "--max-memory", "1e-6", "--preview", (out / "h.png").string()}, 2, "GiB"}},
+             {"foam_fit", {"the largest accepted grid", {"--elements", "256", "--supersample", "16", "--csv", (out / "f.csv").string()}, 2, "--max-hours"}},
+             {"foam_fit", {"256^3 elements in 8 GiB", {"--elements", "256", "--max-memory", "8", "--csv", (out / "f.csv").string()}, 2, "GiB"}},
+             {"foam_slicer",
+              {"a 0.003 mm pixel over a 40 mm object", {"slice", bunny, "--size", "40", "--pixel", "0.003", "--out-dir", out.string()}, 2, "--max-pixels"}},
+             {"foam_slicer",
+              {"more slices than layers", {"slice", bunny, "--size", "20", "--slices", "100000000", "--out-dir", out.string()}, 2, "slices asked for"}},
+             {"foam_slicer",
+              {"a seed box beyond memory", {"seeds", "--box", "0", "0", "0", "1e4", "1e4", "1e4", "--density", "1", "--out", (out / "s.csv").string()}, 2, "GiB"}},
+         })
+        check_case(r.tool, r.c);
+    CHECK_FALSE(fs::exists(out));
+    CHECK(staging_dirs(work_dir).empty());
+}
+
+TEST_CASE("an output that cannot be written is refused before the work, naming it", "[cli][io]") {
+    const std::string bunny = (data_dir / "meshes/bunny_lowres.obj").string();
+    const std::string blocker = write_file("blocker", "a file where a directory is expected\n");
+    const std::string under = (fs::path(blocker) / "out").string();
+    const std::string deck = (data_dir / "fem/cantilever_c3d8.inp").string();
+    const std::string grid = write_file("io_lattice.vtk", lattice_vtk(8));
+    struct row {
+        std::string tool;
+        std::vector<std::string> args;
+    };
+    for (const row& r : std::vector<row>{
+             {"voxelize", {bunny, "-r", "16", "-o", under}},
+             {"fem_solve", {deck, "-o", under}},
+             {"homogenize", {grid, "--preview", under + ".png"}},
+             {"foam_fit", {"--pairs", "1:0.25", "--seeds", "1", "--elements", "8", "--supersample", "1", "--csv", under + ".csv"}},
+             {"foam_slicer", {"slice", bunny, "--size", "10", "--slices", "2", "--out-dir", under}},
+             {"foam_slicer", {"eval", "--points", write_file("io_points.csv", "1,2,3\n"), "--out", under + ".txt"}},
+             {"curve_patterns", {"--exemplar", (data_dir / "vector/greek_key.svg").string(), "--line", "100", "--height", "10", "-o", under + ".svg"}},
+             {"surface_patterns",
+              {bunny, "--exemplar", (data_dir / "exemplars/spots.png").string(), "--size", "20", "--thickness", "1", "--feature", "4", "-r", "32",
+               "--no-structure", "-o", under}},
+         }) {
+        check_case(r.tool, {"output below a regular file", r.args, 5, "blocker"});
+        CHECK(slurp(blocker) == "a file where a directory is expected\n");
+    }
+    CHECK(staging_dirs(work_dir).empty());
+}
+
+TEST_CASE("a run killed at any moment leaves the previous outputs whole", "[cli][kill]") {
+    const fs::path root = work_dir / "kill";
+    fs::remove_all(root);
+    fs::create_directories(root);
+    const std::string bunny = (data_dir / "meshes/bunny_lowres.obj").string();
+    const std::string deck = write_file("kill/block.inp", block_deck(16));
+    const std::string grid = write_file("kill/lattice.vtk", lattice_vtk(40));
+    const fs::path vox = root / "vox", fem = root / "fem", fs_dir = root / "slices", sp = root / "sp";
+    const std::vector<long_run> runs = {
+        {"voxelize", {bunny, "-r", "300", "-o", vox.string()}, {vox / "shell.vtk", vox / "solid.stl", vox / "slices.png"}, vox},
+        {"fem_solve", {deck, "--solver", "ldlt", "-o", fem.string()}, {fem / "displacements.csv", fem / "stresses.csv", fem / "result.vtk"}, fem},
+        {"homogenize", {grid, "--preview", (root / "lattice.png").string()}, {root / "lattice.png"}, root},
+        {"foam_fit",
+         {"--pairs", "1:0.25", "--seeds", "1", "--elements", "32", "--supersample", "8", "--csv", (root / "fit.csv").string(), "--plot",
+          (root / "fit.png").string()},
+         {root / "fit.csv", root / "fit.png"},
+         root},
+        {"foam_slicer",
+         {"slice", bunny, "--size", "40", "--pixel", "0.05", "--slices", "60", "--out-dir", fs_dir.string()},
+         {fs_dir / "slices.json", fs_dir / "preview.png"},
+         fs_dir},
+        {"curve_patterns",
+         {"--exemplar", (data_dir / "vector/greek_key.svg").string(), "--line", "3000", "--height", "10", "-o", (root / "band.svg").string()},
+         {root / "band.svg", root / "band.stl", root / "band.png"},
+         root},
+        {"surface_patterns",
+         {bunny, "--exemplar", (data_dir / "exemplars/spots.png").string(), "--size", "40", "--thickness", "1", "--feature", "4", "-r", "96",
+          "--no-structure", "-o", sp.string()},
+         {sp / "pattern.stl", sp / "shell.vtk", sp / "solid.vtk", sp / "preview.png", sp / "report.json"},
+         sp},
+    };
+    for (const long_run& r : runs)
+        for (const char* signal : {"KILL", "TERM"}) {  // KILL first: the TERM run then also sweeps what KILL left
+            INFO(r.tool << " killed by SIG" << signal << " after 1 s");
+            for (const fs::path& p : r.outputs) fs::create_directories(p.parent_path()), write_file(fs::relative(p, work_dir).string(), old_bytes);
+            if (std::string(signal) == "TERM") wait_for_owners(r.anchor);
+            const result res = run(r.tool, r.args, 1, std::string("timeout -s ") + signal + " 1");
+            INFO("exit " << res.code << ", stderr: " << res.err);
+            int old_files = 0;
+            for (const fs::path& p : r.outputs) {
+                REQUIRE(fs::exists(p));
+                old_files += slurp(p) == old_bytes;
+            }
+            if (res.code == 0) {
+                CHECK(old_files == 0);  // finished before the signal: the whole new set
+                for (const fs::path& p : r.outputs) CHECK(fs::file_size(p) > 0);
+            } else {
+                CHECK(res.code == (std::string(signal) == "KILL" ? 137 : 124));
+                CHECK(old_files == static_cast<int>(r.outputs.size()));  // not one file replaced
+            }
+            if (std::string(signal) == "TERM") CHECK(staging_dirs(r.anchor).empty());
+        }
+    // The slice stack the manifest describes is complete: every listed file exists.
+    const json manifest = json::parse(slurp(fs_dir / "slices.json"), nullptr, false);
+    if (!manifest.is_discarded())
+        for (const auto& s : manifest.at("slices")) CHECK(fs::exists(fs_dir / s.at("file").get<std::string>()));
+}
+
+TEST_CASE("extreme values are refused where they enter, naming the option", "[cli][limits]") {
+    const std::string exemplar = (data_dir / "vector/greek_key.svg").string();
+    const std::string out = (work_dir / "extreme.svg").string();
+    auto band = [&](std::vector<std::string> shape) {
+        std::vector<std::string> a = {"--exemplar", exemplar, "-o", out};
+        a.insert(a.end(), shape.begin(), shape.end());
+        return a;
+    };
+    for (const cli_case& c : std::vector<cli_case>{
+             {"line of 1e300 mm", band({"--line", "1e300", "--height", "10"}), 2, "--line"},
+             {"line of 1e6 band heights", band({"--line", "1e6", "--height", "1"}), 2, "--line"},
+             {"height of 1e300 mm", band({"--line", "100", "--height", "1e300"}), 2, "--height"},
+             {"height of 1e-300 mm", band({"--line", "100", "--height", "1e-300"}), 2, "--height"},
+             {"thickness of 1e300 mm", band({"--line", "100", "--height", "10", "--thickness", "1e300"}), 2, "--thickness"},
+             {"tolerance of 1e-300 mm", band({"--line", "100", "--height", "10", "--tolerance", "1e-300"}), 2, "--tolerance"},
+             {"circle of radius 1e300 mm", band({"--circle", "1e300", "--height", "10"}), 2, "--circle"},
+             {"rectangle 1e300 mm wide", band({"--rect", "1e300", "10", "--height", "5"}), 2, "--rect width"},
+         })
+        check_case("curve_patterns", c);
+    CHECK_FALSE(fs::exists(out));
+}
