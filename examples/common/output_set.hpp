@@ -22,6 +22,7 @@
 //
 // Staging early also checks, before any work, that every output directory can be written.
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -224,8 +225,19 @@ private:
         return staged;
     }
 
-    // A process that exists and is not a zombie (a tool killed with its parent may wait unreaped).
+    // A process that exists and has not terminated. A tool killed together with its parent may stay
+    // an unreaped zombie, so "exists" (kill(pid, 0)) is not enough: a pidfd polls readable once the
+    // process has terminated, reaped or not, and needs no /proc (which a container may hide).
     static bool process_alive(long pid) {
+        const long fd = ::syscall(SYS_pidfd_open, static_cast<pid_t>(pid), 0u);
+        if (fd >= 0) {
+            pollfd p{static_cast<int>(fd), POLLIN, 0};
+            const int ready = ::poll(&p, 1, 0);
+            ::close(static_cast<int>(fd));
+            return ready == 0;
+        }
+        if (errno == ESRCH) return false;
+        // No pidfd (Linux < 5.3): /proc's state letter, Z or X for a terminated process.
         if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno != EPERM) return false;
         std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
         std::string line;
