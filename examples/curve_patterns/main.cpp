@@ -11,7 +11,7 @@
 // (vector_pattern/synthesis.hpp), mapped onto the curve (vector_pattern/band_map.hpp) and extruded to a
 // watertight slab tessellated in the parameter domain (geometry/extrude.hpp, §6.3).
 // Outputs: OUT.svg (filled shapes only), OUT.stl and OUT.3mf (where lib3mf is available; T mm thick, the SVG's y axis flipped so the print
-// looks like the drawing), OUT.png (preview, pattern dark on white: vector_pattern/preview.hpp). Nothing is written unless
+// looks like the drawing), OUT.png (preview, pattern dark on white: geometry/coverage_image.hpp). Nothing is written unless
 // everything succeeded; an impossible request exits with status 3 and the reason on stderr.
 // Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
 
@@ -27,7 +27,7 @@
 #endif
 #include <fabsynth/vector_pattern/band_map.hpp>
 #include <fabsynth/vector_pattern/exemplar.hpp>
-#include <fabsynth/vector_pattern/preview.hpp>
+#include <fabsynth/geometry/coverage_image.hpp>
 #include <fabsynth/vector_pattern/synthesis.hpp>
 
 #include <algorithm>
@@ -187,13 +187,9 @@ int main(int argc, char** argv) {
 
         const box2 bounds = bounding_box(drawn);
         if (bounds.empty()) throw solver_error("the synthesized pattern is empty");
-        const box2 view = vector_pattern::framed_view(bounds, 0.02);
-        io::svg_document doc;
-        doc.width = view.size().x, doc.height = view.size().y;
-        doc.width_unit = doc.height_unit = "mm";
-        doc.view_box = io::svg_view_box{view.lo.x, view.lo.y, view.size().x, view.size().y};
-        doc.shapes.push_back(io::shape_from_polygons(drawn));
-        const image8 png = vector_pattern::preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
+        const box2 view = framed_view(bounds, 0.02);
+        const io::svg_document doc = io::document_of(drawn, view);
+        const image8 png = preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
 
         progress(0.9, "write");
         io::write_svg(svg_file, doc);

@@ -6,7 +6,7 @@
 /// pieces (vector_pattern/portal_cost.hpp), synthesis along a band (vector_pattern/synthesis.hpp, with
 /// vector_pattern/offsets.hpp, vector_pattern/stitching.hpp, vector_pattern/contours.hpp), the map of
 /// band coordinates onto a curve (vector_pattern/band_map.hpp) and the PNG preview of a result
-/// (vector_pattern/preview.hpp).
+/// (geometry/coverage_image.hpp).
 #include "fabsynth/vector_pattern/exemplar.hpp"
 #include "fabsynth/vector_pattern/pieces.hpp"
 #include "fabsynth/vector_pattern/reeb_slicing.hpp"
@@ -16,4 +16,4 @@
 #include "fabsynth/vector_pattern/portal_cost.hpp"
 #include "fabsynth/vector_pattern/synthesis.hpp"
 #include "fabsynth/vector_pattern/band_map.hpp"
-#include "fabsynth/vector_pattern/preview.hpp"
+#include "fabsynth/geometry/coverage_image.hpp"

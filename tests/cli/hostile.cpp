@@ -122,6 +122,12 @@ TEST_CASE("every tool refuses work beyond its estimate before it starts", "[cli]
               {"more slices than layers", {"slice", bunny, "--size", "20", "--slices", "100000000", "--out-dir", out.string()}, 2, "slices asked for"}},
              {"foam_slicer",
               {"a seed box beyond memory", {"seeds", "--box", "0", "0", "0", "1e4", "1e4", "1e4", "--density", "1", "--out", (out / "s.csv").string()}, 2, "GiB"}},
+             {"filigree",
+              {"a 10 m square of 2 mm elements",
+               {"--element", (data_dir / "filigree/spiral.svg").string(), "--rect", "10000", "10000", "--scale", "2", "--width", "0.1", "-o",
+                (out / "f.svg").string()},
+               2,
+               "--max-elements"}},
          })
         check_case(r.tool, r.c);
     CHECK_FALSE(fs::exists(out));
@@ -149,6 +155,9 @@ TEST_CASE("an output that cannot be written is refused before the work, naming i
              {"surface_patterns",
               {bunny, "--exemplar", (data_dir / "exemplars/spots.png").string(), "--size", "20", "--thickness", "1", "--feature", "4", "-r", "32",
                "--no-structure", "-o", under}},
+             {"filigree",
+              {"--element", (data_dir / "filigree/spiral.svg").string(), "--rect", "50", "50", "--scale", "20", "--width", "0.8", "--no-structure",
+               "-o", under + ".svg"}},
          }) {
         check_case(r.tool, {"output below a regular file", r.args, 5, "blocker"});
         CHECK(slurp(blocker) == "a file where a directory is expected\n");

@@ -230,12 +230,15 @@ TEST_CASE("no tool overwrites one of its inputs or writes two outputs to one fil
     const std::string mesh = (fs::path(mesh_dir) / "solid.stl").string();
     fs::copy_file(data_dir / "meshes/cube_ascii.stl", mesh, fs::copy_options::overwrite_existing);
     fs::copy_file(data_dir / "meshes/cube_ascii.stl", fs::path(mesh_dir) / "pattern.stl", fs::copy_options::overwrite_existing);
+    const std::string element = (work_dir / "own_spiral.svg").string();
+    fs::copy_file(data_dir / "filigree/spiral.svg", element, fs::copy_options::overwrite_existing);
     struct row {
         std::string tool;
         std::vector<std::string> args;
         std::string input;
     };
     for (const row& r : std::vector<row>{
+             {"filigree", {"--element", element, "--rect", "50", "50", "--scale", "20", "--width", "0.8", "-o", element}, element},
              {"curve_patterns", {"--exemplar", exemplar, "--line", "100", "--height", "10", "-o", exemplar}, exemplar},
              {"curve_patterns", {"--exemplar", exemplar, "--line", "100", "--height", "10", "-o", (work_dir / "x.stl").string()}, exemplar},
              {"foam_slicer", {"eval", "--points", points, "--out", points}, points},

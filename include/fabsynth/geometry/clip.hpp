@@ -259,6 +259,38 @@ inline std::vector<polygon_with_holes> binary(clip_op op, const std::vector<poly
     return out;
 }
 
+/// `polys` grown (delta > 0) or shrunk (delta < 0) by |delta| mm with round joins (Clipper's
+/// closed-polygon offset), arcs flattened to `arc_tolerance` (mm, > 0). Shrinking then growing by
+/// the same amount (an opening) removes necks narrower than 2 |delta| and point contacts between
+/// rings, where a printed piece would hinge. Throws invalid_input for non-finite values or a
+/// non-positive tolerance.
+[[nodiscard]] inline std::vector<polygon_with_holes> polygon_offset(const std::vector<polygon_with_holes>& polys, double delta,
+                                                                    double arc_tolerance = 0.01) {
+    if (!std::isfinite(delta)) throw invalid_input("polygon_offset: delta must be finite");
+    if (!(std::isfinite(arc_tolerance) && arc_tolerance > 0)) throw invalid_input("polygon_offset: arc tolerance must be finite and > 0");
+    auto oriented = polys;
+    for (auto& p : oriented) orient(p);
+    const std::vector<ring2> rings = to_rings(oriented);
+    const box2 b = detail::clip::bounds_of(rings, "polygon_offset");
+    if (b.empty()) return {};
+    const double pad = 2 * std::abs(delta) + arc_tolerance;
+    const clip_grid grid = clip_grid::for_bounds(box2(b.lo - vec2(pad), b.hi + vec2(pad)));
+    ClipperLib::ClipperOffset offset(2.0, arc_tolerance * grid.scale);
+    offset.AddPaths(detail::clip::to_paths(rings, grid), ClipperLib::jtRound, ClipperLib::etClosedPolygon);
+    ClipperLib::Paths grown;
+    offset.Execute(grown, delta * grid.scale);
+    // The offset's rings may touch at vertices: a strictly simple union splits them, as every
+    // boolean here does.
+    ClipperLib::Clipper c;
+    c.StrictlySimple(true);
+    c.AddPaths(grown, ClipperLib::ptSubject, true);
+    ClipperLib::PolyTree tree;
+    if (!c.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero)) throw solver_error("polygon_offset: Clipper failed");
+    std::vector<polygon_with_holes> out;
+    for (const ClipperLib::PolyNode* outer : tree.Childs) detail::clip::collect(*outer, grid, out);
+    return out;
+}
+
 /// The part of `polys` with x0 <= x <= x1 (x0, x1 rounded to the grid; the strip reaches past the
 /// shape in y). Throws invalid_input unless x0 < x1 are finite.
 [[nodiscard]] inline std::vector<polygon_with_holes> clip_strip(const std::vector<polygon_with_holes>& polys, double x0,

@@ -141,6 +141,17 @@ struct svg_document {
     friend bool operator==(const svg_document&, const svg_document&) = default;
 };
 
+/// A drawing in mm of `view` (its viewBox and width/height) holding `polys` as one filled shape
+/// (shape_from_polygons): what the pattern tools write as OUT.svg.
+[[nodiscard]] inline svg_document document_of(const std::vector<polygon_with_holes>& polys, const box2& view) {
+    svg_document doc;
+    doc.width = view.size().x, doc.height = view.size().y;
+    doc.width_unit = doc.height_unit = "mm";
+    doc.view_box = svg_view_box{view.lo.x, view.lo.y, view.size().x, view.size().y};
+    doc.shapes.push_back(shape_from_polygons(polys));
+    return doc;
+}
+
 /// Reader options.
 struct svg_read_options {
     double tolerance = 0.01;                  ///< max curve-to-polyline distance, root user units (> 0)

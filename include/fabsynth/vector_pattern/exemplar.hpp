@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "fabsynth/core/box.hpp"
+#include "fabsynth/geometry/drawing.hpp"
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/clip.hpp"
@@ -161,18 +162,9 @@ inline std::string shape_name(const exemplar_shape& s, std::size_t i) {
     return out;
 }
 
-/// What exemplar_from_svg reads from a document: `shapes`, each with `subpaths`, `closed`, `rule`,
-/// `id` and `filled()` (io::svg_document satisfies it; taken as a template so that this building
-/// block does not depend on io/).
-template <class Doc>
-concept svg_like_document = requires(const Doc& d) {
-    d.shapes.size();
-    d.shapes[0].subpaths;
-    d.shapes[0].closed;
-    { d.shapes[0].rule } -> std::convertible_to<fill_rule>;
-    { d.shapes[0].filled() } -> std::convertible_to<bool>;
-    { d.shapes[0].id } -> std::convertible_to<std::string>;
-};
+/// What exemplar_from_svg reads from a document: geometry/drawing.hpp's svg_like_document
+/// (io::svg_document satisfies it; a template so that this building block does not depend on io/).
+using fabsynth::svg_like_document;
 
 /// Exemplar from the filled shapes of an SVG document (unfilled shapes, e.g. fill="none" strokes,
 /// draw no area and are skipped). Throws invalid_input as make_exemplar, and for a document with

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file preview.hpp  The PNG preview of a vector pattern: a grey-level coverage image of its
-/// polygons (pattern dark on white), so a person can look at a result instead of reading it.
+/// @file coverage_image.hpp  The PNG preview of planar shapes (vector patterns, filigrees): a
+/// grey-level coverage image of polygons (pattern dark on white), so a person can look at a result
+/// instead of reading it.
 ///
 /// The view box is divided into square pixels, max_side of them along its longer side (the other
 /// side rounded up); every pixel is split into supersample x supersample sub-pixels, each inside
@@ -14,8 +15,8 @@
 /// margin of pad_fraction of its longer side on every side.
 ///
 /// Usage:
-///   const box2 view = fabsynth::vector_pattern::framed_view(bounding_box(drawn));
-///   image8 png = fabsynth::vector_pattern::preview_image(drawn, view, {.max_side = 1600});
+///   const box2 view = fabsynth::framed_view(bounding_box(drawn));
+///   image8 png = fabsynth::preview_image(drawn, view, {.max_side = 1600});
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -30,7 +31,7 @@
 #include "fabsynth/geometry/polygon.hpp"
 #include "fabsynth/geometry/raster.hpp"
 
-namespace fabsynth::vector_pattern {
+namespace fabsynth {
 
 /// Options of preview_image.
 struct preview_options {
@@ -73,4 +74,4 @@ struct preview_options {
     return img;
 }
 
-}  // namespace fabsynth::vector_pattern
+}  // namespace fabsynth

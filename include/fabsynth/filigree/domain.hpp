@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file domain.hpp  The planar region a filigree fills (filigree-synthesis.md §3.2, §7.2
+/// "boundary-aware synthesis"): a rectangle, or the filled shapes of an SVG drawing (polygons with
+/// holes), in mm.
+///
+/// Usage:
+///   auto d = fabsynth::filigree::planar_domain::rectangle(80, 60);
+///   auto e = fabsynth::filigree::planar_domain::from_svg(fabsynth::io::read_svg("frame.svg"));  // the driver reads
+///   d.contains({10, 10});  d.area;  d.boundary_samples(0.5);
+///
+/// SVG domains: every filled shape (fill not "none") contributes its rings with its fill rule, the
+/// shapes are united; SVG user units are taken as mm. Throws invalid_input for a rectangle that is
+/// not finite and > 0, or a drawing without filled area.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "fabsynth/core/box.hpp"
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/types.hpp"
+#include "fabsynth/geometry/clip.hpp"
+#include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/filigree/element.hpp"
+
+namespace fabsynth::filigree {
+
+/// A region of the plane (mm): polygons with holes, outer rings counter-clockwise.
+struct planar_domain {
+    std::vector<polygon_with_holes> region;
+    box2 bounds;
+    double area = 0.0;  ///< mm^2
+
+    /// [0, width] x [0, height] (mm).
+    [[nodiscard]] static planar_domain rectangle(double width, double height) {
+        if (!(std::isfinite(width) && std::isfinite(height) && width > 0 && height > 0))
+            throw invalid_input("domain: the rectangle must have a finite, positive width and height (mm)");
+        return from_polygons({polygon_with_holes{ring2{{0, 0}, {width, 0}, {width, height}, {0, height}}, {}}});
+    }
+
+    /// The union of the filled shapes of `doc` (user units = mm).
+    template <svg_like_document Doc>
+    [[nodiscard]] static planar_domain from_svg(const Doc& doc, const std::string& name = "domain") {
+        std::vector<polygon_with_holes> all;
+        bool any_filled = false;
+        for (const auto& s : doc.shapes) {
+            if (!s.filled()) continue;
+            any_filled = true;
+            std::vector<ring2> r;
+            for (const auto& sp : s.subpaths)
+                if (sp.size() >= 3) r.emplace_back(sp.begin(), sp.end());
+            if (r.empty()) continue;
+            const auto u = polygon_union(r, s.rule);
+            all.insert(all.end(), u.begin(), u.end());
+        }
+        if (all.empty())
+            throw invalid_input(name + (any_filled ? ": the domain has zero area" : ": the SVG has no filled shape to use as the domain"));
+        return from_polygons(polygon_union(all, {}));
+    }
+
+    /// From polygons (united first).
+    [[nodiscard]] static planar_domain from_polygons(std::vector<polygon_with_holes> polys, const std::string& name = "domain") {
+        planar_domain d;
+        d.region = std::move(polys);
+        d.area = fabsynth::area(d.region);
+        if (!(d.area > 0)) throw invalid_input(name + ": the domain has zero area");
+        d.bounds = bounding_box(d.region);
+        return d;
+    }
+
+    /// True for points inside (or on the boundary of) the region.
+    [[nodiscard]] bool contains(vec2 p) const noexcept {
+        if (p.x < bounds.lo.x || p.y < bounds.lo.y || p.x > bounds.hi.x || p.y > bounds.hi.y) return false;
+        for (const polygon_with_holes& poly : region)
+            if (point_in_polygon(poly, p)) return true;
+        return false;
+    }
+
+    /// Points along every boundary ring, at most `spacing` mm apart (ring vertices included).
+    [[nodiscard]] std::vector<vec2> boundary_samples(double spacing) const {
+        std::vector<vec2> out;
+        auto ring = [&](const ring2& r) {
+            for (std::size_t i = 0; i < r.size(); ++i) {
+                const vec2 a = r[i], b = r[(i + 1) % r.size()];
+                const int n = std::max(1, static_cast<int>(std::ceil(glm::distance(a, b) / spacing)));
+                for (int k = 0; k < n; ++k) out.push_back(a + (b - a) * (static_cast<double>(k) / n));
+            }
+        };
+        for (const polygon_with_holes& p : region) {
+            ring(p.outer);
+            for (const ring2& h : p.holes) ring(h);
+        }
+        return out;
+    }
+};
+
+}  // namespace fabsynth::filigree

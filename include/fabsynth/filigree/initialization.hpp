@@ -1,0 +1,249 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file initialization.hpp  Initial element distribution (filigree-synthesis.md §4.1, §7.3): dart
+/// throwing around the elements placed so far (sampling/dart_throwing.hpp), keeping a candidate S
+/// iff, with areas of covering regions,
+///   (1) area(S ∩ union of the others) <= 60% of area(S),
+///   (2) area(S ∩ E) <= 30% of area(S) for every other element E,
+///   (3) area(S ∩ E) >= 10% of area(S) for at least one E,
+/// after S was rotated and scaled by the control field at its reference point.
+///
+/// Multi-class (§7.3, after Wei 2010): each attempt draws from the class that is most underfilled,
+/// (count + 1) / share smallest with share = weight / sum of weights; among equally underfilled
+/// classes the smaller element (bounding-box diagonal) goes first, as the paper gives larger
+/// elements lower priority. A weight of 0 removes a class (the paper's infinite size factor).
+/// Overlaps with an element of the same class count `same_class_penalty` times in (1) and (2), so
+/// same-class pile-ups are rejected more often (§7.3).
+///
+/// Domain (§7.2): a candidate's reference point must lie in the domain and the part of S inside the
+/// domain not yet covered must be at least `min_new_inside` of area(S); the first element is put at
+/// the domain point nearest the centre of its bounding box. Candidates: an element that is not yet
+/// exhausted chosen uniformly, a point on its covering boundary (uniform in arc length), then a
+/// uniform direction and a distance up to half the new element's size; an element is exhausted
+/// after `attempts_per_host` failed candidates around it. Stops when every element is exhausted
+/// ("the domain is covered and no element can be added"), at `max_elements`, or after
+/// `max_consecutive_rejections` failures in a row. Deterministic: attempt a draws from
+/// counter_rng(seed, a), and the loop is sequential.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/rng.hpp"
+#include "fabsynth/filigree/domain.hpp"
+#include "fabsynth/filigree/element.hpp"
+#include "fabsynth/filigree/field.hpp"
+#include "fabsynth/filigree/pattern.hpp"
+#include "fabsynth/geometry/clip.hpp"
+#include "fabsynth/sampling/dart_throwing.hpp"
+
+namespace fabsynth::filigree {
+
+struct initialization_options {
+    double max_union_overlap = 0.60;   ///< rule (1), fraction of area(S)
+    double max_single_overlap = 0.30;  ///< rule (2)
+    double min_single_overlap = 0.10;  ///< rule (3)
+    double same_class_penalty = 1.5;   ///< factor on same-class overlaps in (1) and (2), >= 1
+    double min_new_inside = 0.10;      ///< newly covered area inside the domain, fraction of area(S)
+    std::size_t attempts_per_host = 60;          ///< failed candidates around one element before it is exhausted
+    std::size_t max_consecutive_rejections = 20'000;  ///< safety stop of the loop
+    std::size_t max_elements = 5000;
+    std::uint64_t seed = 1;
+};
+
+/// What initialization produced.
+struct initialization_result {
+    std::vector<instance> instances;
+    std::size_t attempts = 0;
+    double covered_fraction = 0.0;  ///< area(domain ∩ union of covering regions) / area(domain)
+};
+
+namespace detail::init {
+
+[[nodiscard]] inline std::vector<polygon_with_holes> covering_polys(const placed& p) {
+    std::vector<polygon_with_holes> out;
+    for (const ring2& r : p.covering) out.push_back({r, {}});
+    return out;
+}
+
+// The domain point nearest the centre of its bounding box, on a 64 x 64 lattice.
+[[nodiscard]] inline vec2 central_point(const planar_domain& d) {
+    const vec2 c = 0.5 * (d.bounds.lo + d.bounds.hi);
+    if (d.contains(c)) return c;
+    vec2 best = c;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i) {
+            const vec2 p = d.bounds.lo + (d.bounds.hi - d.bounds.lo) * vec2((i + 0.5) / 64, (j + 0.5) / 64);
+            if (d.contains(p) && glm::distance(p, c) < best_d) best_d = glm::distance(p, c), best = p;
+        }
+    return best;
+}
+
+// A uniform point (in arc length) on the boundary of p's covering parts.
+[[nodiscard]] inline vec2 boundary_point(const placed& p, counter_rng& rng) {
+    double total = 0;
+    for (const ring2& r : p.covering) total += perimeter(r);
+    double t = rng.uniform() * total;
+    for (const ring2& r : p.covering)
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            const vec2 a = r[i], b = r[(i + 1) % r.size()];
+            const double l = glm::distance(a, b);
+            if (t <= l && l > 0) return a + (b - a) * (t / l);
+            t -= l;
+        }
+    return p.covering.back().back();
+}
+
+}  // namespace detail::init
+
+/// Distributes instances of `classes` over `domain` (see the file comment). weights: one per class,
+/// finite and >= 0, not all 0. Throws invalid_input for bad weights or
+/// options; no_solution for an element whose covering region (scaled by the field at the domain's
+/// centre) is larger than the domain, or when no element can be placed at all.
+template <control_field F>
+[[nodiscard]] initialization_result initialize(std::span<const element> classes, std::span<const double> weights, const planar_domain& domain,
+                                               const F& field, const initialization_options& opt = {}) {
+    namespace di = detail::init;
+    if (classes.empty()) throw invalid_input("initialization: no element classes");
+    if (weights.size() != classes.size()) throw invalid_input("initialization: one weight per element class is needed");
+    double wsum = 0;
+    for (double w : weights) {
+        if (!(std::isfinite(w) && w >= 0)) throw invalid_input("initialization: class weights must be finite and >= 0");
+        wsum += w;
+    }
+    if (!(wsum > 0)) throw invalid_input("initialization: at least one class weight must be > 0");
+    if (!(opt.same_class_penalty >= 1)) throw invalid_input("initialization: same_class_penalty must be >= 1");
+
+    {  // an element whose covering region exceeds the domain cannot be distributed over it
+        const double s0 = field(di::central_point(domain)).scale;
+        for (std::size_t c = 0; c < classes.size(); ++c)
+            if (weights[c] > 0 && classes[c].covering_area * s0 * s0 > domain.area)
+                throw no_solution("initialization: element " + classes[c].name + " (covering " + std::to_string(classes[c].covering_area * s0 * s0) +
+                                  " mm^2) is larger than the domain (" + std::to_string(domain.area) + " mm^2)");
+    }
+    std::vector<placed> geo;
+    std::vector<std::size_t> count(classes.size(), 0);
+    std::uint32_t current = 0;  // class of the candidate being generated
+
+    auto pick_class = [&] {
+        std::uint32_t best = UINT32_MAX;
+        double best_key = std::numeric_limits<double>::infinity();
+        for (std::uint32_t c = 0; c < classes.size(); ++c) {
+            if (weights[c] <= 0) continue;
+            const double key = (static_cast<double>(count[c]) + 1.0) / (weights[c] / wsum);
+            if (key < best_key * (1 - 1e-12) ||
+                (std::abs(key - best_key) <= 1e-12 * best_key && best != UINT32_MAX && classes[c].size < classes[best].size))
+                best_key = key, best = c;
+        }
+        return best;
+    };
+
+    // Hosts: elements around which candidates are still thrown. One that has produced
+    // attempts_per_host failures in total is exhausted, so the loop keeps exploring the open fronts
+    // (a narrow domain has only a few) and ends when every element is exhausted.
+    std::vector<std::size_t> alive_hosts, host_failures;
+    std::size_t host = SIZE_MAX, first_failures = 0;
+    auto host_failed = [&] {
+        if (host == SIZE_MAX) {
+            ++first_failures;
+            return;
+        }
+        if (++host_failures[host] < opt.attempts_per_host) return;
+        alive_hosts.erase(std::find(alive_hosts.begin(), alive_hosts.end(), host));
+    };
+    auto generate = [&](counter_rng& rng) -> std::optional<instance> {
+        current = pick_class();
+        host = SIZE_MAX;
+        if (geo.empty()) {  // the first element: the centre, then uniform points of the domain
+            if (first_failures >= opt.attempts_per_host) return std::nullopt;
+            if (first_failures == 0) return make_instance(classes, current, di::central_point(domain), field);
+            const vec2 p = domain.bounds.lo + (domain.bounds.hi - domain.bounds.lo) * vec2(rng.uniform(), rng.uniform());
+            if (!domain.contains(p)) return ++first_failures, std::nullopt;
+            return make_instance(classes, current, p, field);
+        }
+        if (alive_hosts.empty()) return std::nullopt;
+        host = alive_hosts[static_cast<std::size_t>(rng.uniform_int(alive_hosts.size()))];
+        const vec2 b = di::boundary_point(geo[host], rng);
+        const double reach = 0.5 * classes[current].size * field(b).scale * rng.uniform();
+        const double angle = 2 * std::numbers::pi * rng.uniform();
+        const vec2 p = b + reach * vec2(std::cos(angle), std::sin(angle));
+        if (!domain.contains(p)) {
+            host_failed();
+            return std::nullopt;
+        }
+        return make_instance(classes, current, p, field);
+    };
+
+    auto accept_geometry = [&](const instance& cand, std::span<const instance> accepted) {
+        placed pc = place(classes[cand.cls], cand);
+        const auto S = di::covering_polys(pc);
+        const double aS = area(polygon_union(S, {}));
+        if (!(aS > 0)) return false;
+        // The part of S inside the domain that nothing covers yet.
+        std::vector<polygon_with_holes> others;
+        double max_single = 0, union_weighted = 0;
+        bool some_contact = accepted.empty();
+        for (std::size_t j = 0; j < accepted.size(); ++j) {
+            if (!boxes_meet(pc, geo[j])) continue;
+            const auto Ej = di::covering_polys(geo[j]);
+            const double a = area(polygon_intersection(S, Ej));
+            if (a <= 0) continue;
+            const double pen = accepted[j].cls == cand.cls ? opt.same_class_penalty : 1.0;
+            max_single = std::max(max_single, pen * a / aS);
+            if (a / aS >= opt.min_single_overlap) some_contact = true;
+            others.insert(others.end(), Ej.begin(), Ej.end());
+            union_weighted = std::max(union_weighted, pen);  // the strongest penalty among the overlapped
+        }
+        if (!some_contact || max_single > opt.max_single_overlap) return false;
+        const auto inside = polygon_intersection(S, domain.region);
+        const auto fresh = others.empty() ? inside : polygon_difference(inside, polygon_union(others, {}));
+        if (area(fresh) < opt.min_new_inside * aS) return false;
+        if (!others.empty()) {
+            const double covered = aS - area(polygon_difference(S, polygon_union(others, {})));
+            if (std::max(1.0, union_weighted) * covered / aS > opt.max_union_overlap) return false;
+        }
+        geo.push_back(std::move(pc));
+        ++count[cand.cls];
+        return true;
+    };
+
+    auto accept = [&](const instance& cand, std::span<const instance> accepted) {
+        const bool ok = accept_geometry(cand, accepted);
+        if (ok) {
+            alive_hosts.push_back(geo.size() - 1);
+            host_failures.push_back(0);
+        } else {
+            host_failed();
+        }
+        return ok;
+    };
+
+    sampling::dart_options dopt;
+    dopt.seed = opt.seed;
+    dopt.target = opt.max_elements;
+    dopt.max_consecutive_rejections = opt.max_consecutive_rejections;
+    // Every failure exhausts a host a little: at most attempts_per_host per element, plus the
+    // attempts after the last host is exhausted.
+    dopt.max_attempts = opt.max_elements * (opt.attempts_per_host + 1) + opt.max_consecutive_rejections;
+    auto r = sampling::dart_throwing(generate, accept, dopt);
+    if (r.accepted.empty()) throw no_solution("initialization: no element fits in the domain (is an element larger than the domain?)");
+
+    initialization_result out;
+    out.attempts = r.attempts;
+    out.instances = std::move(r.accepted);
+    std::vector<polygon_with_holes> all;
+    for (const placed& p : geo) {
+        const auto c = di::covering_polys(p);
+        all.insert(all.end(), c.begin(), c.end());
+    }
+    out.covered_fraction = area(polygon_intersection(polygon_union(all, {}), domain.region)) / domain.area;
+    return out;
+}
+
+}  // namespace fabsynth::filigree

@@ -1,0 +1,292 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file placement.hpp  Placement optimization (filigree-synthesis.md §4.3, Algorithm 1): the
+/// connectivity graph of the instances, its independent sets as the update order, and per
+/// instance a stochastic translation search that lowers the pattern matching energy (§4.2) under
+/// the hard constraint that the instance keeps every neighbour it had (N_i ⊆ N'_i); every pair
+/// scored is recorded in the connection database D (the input of boosting, §4.4). A smooth
+/// connection step (§4.3.2) can follow each move (a callable; see connection.hpp).
+///
+/// Usage:
+///   fabsynth::filigree::pattern_state s(classes, instances, field, domain);
+///   fabsynth::filigree::connection_database D;
+///   auto report = fabsynth::filigree::place_optimize(s, D, {.seed = 3});
+///   s.pattern_energy();      // PME of eq. 3
+///
+/// Determinism and threads: the instances of one independent set are updated in parallel; each
+/// reads the state as it was when the set began (no two of them are neighbours, §4.3.2 "Updating
+/// Sequence") and draws from counter_rng(seed, iteration, instance); their moves are applied in
+/// instance order once the set is done, and D receives their records in instance order. The result
+/// is therefore the same for any thread count.
+///
+/// Neighbours: i and j are connected when their skeletons reach into each other's covering region
+/// (matching.hpp, overlapping(): dist(P_i, P_j) of eq. 2 is finite). The local energy of i is the
+/// sum of eq. 2 over its neighbours plus gamma_boundary times the boundary term (Theta, §7.2).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <span>
+#include <vector>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/parallel.hpp"
+#include "fabsynth/core/rng.hpp"
+#include "fabsynth/filigree/domain.hpp"
+#include "fabsynth/filigree/element.hpp"
+#include "fabsynth/filigree/field.hpp"
+#include "fabsynth/filigree/matching.hpp"
+#include "fabsynth/filigree/pattern.hpp"
+#include "fabsynth/graph/colouring.hpp"
+#include "fabsynth/graph/csr_graph.hpp"
+
+namespace fabsynth::filigree {
+
+/// One scored pair (§4.3.1 "we record data (relative position, class ID etc) of all element pairs
+/// that have been traversed"): j relative to i in i's frame (rotated back and divided by i's scale).
+struct connection_record {
+    std::uint32_t cls_i = 0, cls_j = 0;
+    vec2 offset{0, 0};      ///< element-frame position of j's reference point seen from i
+    double quality = 0.0;   ///< eq. 2 (mm), finite
+};
+using connection_database = std::vector<connection_record>;
+
+/// The pattern being synthesized: classes, instances, their world geometry and the control field.
+class pattern_state {
+public:
+    pattern_state(std::span<const element> classes, std::vector<instance> instances, any_field field, const planar_domain& domain,
+                  double gamma_boundary = 1.0)
+        : classes_(classes), field_(std::move(field)), domain_(&domain), gamma_boundary_(gamma_boundary) {
+        double w = 0;
+        for (const element& e : classes) w = std::max(w, e.median_width());
+        band_ = 2 * w;
+        boundary_ = domain.boundary_samples(std::max(w, 1e-3));
+        set_instances(std::move(instances));
+    }
+
+    [[nodiscard]] std::span<const element> classes() const noexcept { return classes_; }
+    [[nodiscard]] const std::vector<instance>& instances() const noexcept { return instances_; }
+    [[nodiscard]] const std::vector<placed>& geometry() const noexcept { return geo_; }
+    [[nodiscard]] const any_field& field() const noexcept { return field_; }
+    [[nodiscard]] const planar_domain& domain() const noexcept { return *domain_; }
+    [[nodiscard]] std::size_t size() const noexcept { return instances_.size(); }
+
+    void set_instances(std::vector<instance> in) {
+        instances_ = std::move(in);
+        geo_.clear();
+        for (const instance& i : instances_) geo_.push_back(place(classes_[i.cls], i));
+    }
+    /// Replaces instance i (and its geometry).
+    void update(std::size_t i, instance in) {
+        geo_[i] = place(classes_[in.cls], in);
+        instances_[i] = std::move(in);
+    }
+    /// The instance `in` moved to `p` (rotation and scale re-read from the field, shape kept).
+    [[nodiscard]] instance moved(const instance& in, vec2 p) const {
+        instance out = in;
+        const field_sample f = field_(p);
+        out.position = p, out.rotation = f.rotation, out.scale = f.scale;
+        return out;
+    }
+
+    /// Instances whose skeletons reach into the covering region of `g` (excluding `self`), in id order.
+    [[nodiscard]] std::vector<std::uint32_t> neighbours_of(const placed& g, std::size_t self) const {
+        std::vector<std::uint32_t> out;
+        for (std::size_t j = 0; j < geo_.size(); ++j)
+            if (j != self && overlapping(g, geo_[j])) out.push_back(static_cast<std::uint32_t>(j));
+        return out;
+    }
+    /// The connectivity graph Pi (Algorithm 1, line 1) as adjacency lists.
+    [[nodiscard]] std::vector<std::vector<std::uint32_t>> connectivity() const {
+        std::vector<std::vector<std::uint32_t>> adj(geo_.size());
+        for (std::size_t i = 0; i < geo_.size(); ++i)
+            for (std::size_t j = i + 1; j < geo_.size(); ++j)
+                if (overlapping(geo_[i], geo_[j])) adj[i].push_back(static_cast<std::uint32_t>(j)), adj[j].push_back(static_cast<std::uint32_t>(i));
+        return adj;
+    }
+    /// Theta of one placed instance (boundary term times gamma_boundary).
+    [[nodiscard]] double theta(const placed& g) const { return gamma_boundary_ > 0 ? gamma_boundary_ * boundary_term(g, boundary_, band_) : 0.0; }
+
+    /// Local energy of instance geometry g against the instances `nbrs` (eq. 2 summed, + Theta).
+    [[nodiscard]] double local_energy(const placed& g, std::span<const std::uint32_t> nbrs) const {
+        double e = theta(g);
+        for (const std::uint32_t j : nbrs) e += pair_distance(g, geo_[j]);
+        return e;
+    }
+    /// PME of eq. 3: the sum of eq. 2 over connected pairs plus Theta.
+    [[nodiscard]] double pattern_energy() const {
+        const auto adj = connectivity();
+        double e = 0;
+        for (std::size_t i = 0; i < geo_.size(); ++i) {
+            e += theta(geo_[i]);
+            for (const std::uint32_t j : adj[i])
+                if (j > i) e += pair_distance(geo_[i], geo_[j]);
+        }
+        return e;
+    }
+    /// Number of connected pairs.
+    [[nodiscard]] std::size_t pair_count() const {
+        std::size_t n = 0;
+        for (const auto& a : connectivity()) n += a.size();
+        return n / 2;
+    }
+
+private:
+    std::span<const element> classes_;
+    std::vector<instance> instances_;
+    std::vector<placed> geo_;
+    any_field field_;
+    const planar_domain* domain_;
+    double gamma_boundary_;
+    double band_ = 0;
+    std::vector<vec2> boundary_;
+};
+
+/// Smooth connection hook (§4.3.2): given the state and an instance index, returns the deformed
+/// instance to adopt, or nothing. Called once per moved instance.
+using smooth_connection_fn = std::function<std::optional<instance>(const pattern_state&, std::size_t)>;
+
+struct placement_options {
+    int candidates = 24;              ///< random displacements tried per instance and iteration
+    double step = 0.15;               ///< search radius, fraction of the instance's size (scale included)
+    double step_decay = 0.8;          ///< radius factor per iteration
+    int max_iterations = 8;
+    double converged_translation = 0.002;  ///< stop when the summed translation / (n * mean size) falls below
+    std::uint64_t seed = 1;
+    smooth_connection_fn smooth_connection;  ///< optional (§4.3.2)
+};
+
+struct placement_report {
+    int iterations = 0;
+    double translation = 0.0;          ///< summed translation over all iterations, mm
+    std::vector<double> energy;        ///< PME after each iteration
+    std::size_t smooth_connections = 0;
+};
+
+namespace detail::placement {
+
+// Independent sets of the connectivity graph (Algorithm 1, line 2).
+[[nodiscard]] inline std::vector<std::vector<graph::vertex_id>> independent_sets(const std::vector<std::vector<std::uint32_t>>& adj) {
+    std::vector<graph::edge_record<>> edges;
+    for (std::size_t i = 0; i < adj.size(); ++i)
+        for (const std::uint32_t j : adj[i])
+            if (j > i) edges.push_back({static_cast<graph::vertex_id>(i), j, 1.0, {}});
+    const auto g = graph::build_csr(adj.size(), std::span<const graph::edge_record<>>(edges));
+    return graph::greedy_colouring(g, graph::largest_degree_first{}).sets;
+}
+
+struct move_result {
+    instance best;
+    bool moved = false;
+    double translation = 0;
+    std::vector<connection_record> records;
+};
+
+// STOCHASTICSEARCH (§4.3.1) for instance i: the best of the current position and `candidates`
+// random displacements that keep every old neighbour.
+[[nodiscard]] inline move_result stochastic_search(const pattern_state& s, std::size_t i, std::span<const std::uint32_t> nbrs, double radius,
+                                                   int candidates, std::uint64_t seed, std::uint64_t iteration) {
+    const instance& cur = s.instances()[i];
+    move_result r{cur, false, 0, {}};
+    double best = s.local_energy(s.geometry()[i], nbrs);
+    counter_rng rng(seed, iteration, i);
+    auto record = [&](const instance& cand, const placed& g, std::span<const std::uint32_t> with) {
+        for (const std::uint32_t j : with) {
+            const double q = pair_distance(g, s.geometry()[j]);
+            if (std::isfinite(q)) r.records.push_back({cand.cls, s.instances()[j].cls, to_local(cand, s.instances()[j].position), q});
+        }
+    };
+    record(cur, s.geometry()[i], nbrs);
+    for (int k = 0; k < candidates; ++k) {
+        const double a = 2 * std::numbers::pi * rng.uniform(), d = radius * std::sqrt(rng.uniform());
+        const vec2 p = cur.position + d * vec2(std::cos(a), std::sin(a));
+        if (!s.domain().contains(p)) continue;
+        const instance cand = s.moved(cur, p);
+        const placed g = place(s.classes()[cand.cls], cand);
+        const std::vector<std::uint32_t> now = s.neighbours_of(g, i);
+        if (!std::includes(now.begin(), now.end(), nbrs.begin(), nbrs.end())) continue;  // hard constraint N_i ⊆ N'_i
+        record(cand, g, now);
+        const double e = s.local_energy(g, now);
+        if (e < best) best = e, r.best = cand, r.moved = true, r.translation = glm::distance(p, cur.position);
+    }
+    return r;
+}
+
+}  // namespace detail::placement
+
+/// PLACEOPTIM (Algorithm 1) on `s`, appending every scored pair to `database`. The PME never
+/// rises: an iteration that would raise it is undone and ends the optimization.
+[[nodiscard]] inline placement_report place_optimize(pattern_state& s, connection_database& database, const placement_options& opt = {}) {
+    namespace dp = detail::placement;
+    if (opt.candidates < 1 || !(opt.step > 0) || !(opt.step_decay > 0 && opt.step_decay <= 1) || opt.max_iterations < 0)
+        throw invalid_input("placement: candidates >= 1, step > 0 and step_decay in (0, 1] are required");
+    placement_report rep;
+    if (s.size() == 0) return rep;
+    double mean_size = 0;
+    for (const instance& in : s.instances()) mean_size += s.classes()[in.cls].size * in.scale;
+    mean_size /= static_cast<double>(s.size());
+    double step = opt.step;
+    double energy = s.pattern_energy();
+    for (int it = 0; it < opt.max_iterations; ++it) {
+        const std::vector<instance> before = s.instances();
+        const auto adj = s.connectivity();
+        const auto sets = dp::independent_sets(adj);
+        double moved = 0;
+        for (const auto& set : sets) {
+            std::vector<dp::move_result> res(set.size());
+            parallel_for(0, set.size(), [&](std::size_t k) {
+                const std::size_t i = set[k];
+                const double radius = step * s.classes()[s.instances()[i].cls].size * s.instances()[i].scale;
+                res[k] = dp::stochastic_search(s, i, adj[i], radius, opt.candidates, opt.seed, static_cast<std::uint64_t>(it));
+            });
+            for (std::size_t k = 0; k < set.size(); ++k) {
+                database.insert(database.end(), res[k].records.begin(), res[k].records.end());
+                if (res[k].moved) s.update(set[k], std::move(res[k].best)), moved += res[k].translation;
+            }
+            if (opt.smooth_connection) {  // SMOOTHCONNECTION (Algorithm 1, line 8), in instance order
+                std::vector<std::optional<instance>> def(set.size());
+                parallel_for(0, set.size(), [&](std::size_t k) { def[k] = opt.smooth_connection(s, set[k]); });
+                for (std::size_t k = 0; k < set.size(); ++k)
+                    if (def[k]) s.update(set[k], std::move(*def[k])), ++rep.smooth_connections;
+            }
+        }
+        // Same-set instances may become neighbours of each other, and deformations change shapes:
+        // neither is in a local energy, so an iteration that raised the PME is undone.
+        const double after = s.pattern_energy();
+        ++rep.iterations;
+        if (after > energy) {
+            s.set_instances(before);
+            rep.energy.push_back(energy);
+            break;
+        }
+        energy = after;
+        rep.translation += moved;
+        rep.energy.push_back(energy);
+        step *= opt.step_decay;
+        if (moved < opt.converged_translation * mean_size * static_cast<double>(s.size())) break;
+    }
+    return rep;
+}
+
+/// Removes instances that fully overlap an earlier one of the same class (§3.5 "Discussion": only
+/// one copy of entirely overlapped elements is kept): reference points closer than `tolerance`
+/// times the size and rotations within 0.05 rad. Returns the number removed.
+inline std::size_t remove_duplicates(pattern_state& s, double tolerance = 0.05) {
+    std::vector<instance> kept;
+    const auto& in = s.instances();
+    for (const instance& a : in) {
+        bool dup = false;
+        for (const instance& b : kept)
+            if (a.cls == b.cls && glm::distance(a.position, b.position) < tolerance * s.classes()[a.cls].size * a.scale &&
+                std::abs(std::remainder(a.rotation - b.rotation, 2 * std::numbers::pi)) < 0.05)
+                dup = true;
+        if (!dup) kept.push_back(a);
+    }
+    const std::size_t removed = in.size() - kept.size();
+    if (removed) s.set_instances(std::move(kept));
+    return removed;
+}
+
+}  // namespace fabsynth::filigree

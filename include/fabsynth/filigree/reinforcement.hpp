@@ -1,0 +1,167 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file reinforcement.hpp  From synthesized skeletons to one strong printable piece
+/// (filigree-synthesis.md §5, §6): strips (reconstruct.hpp) clipped to the domain, the connected
+/// piece kept, then the structural optimization of §5 by shell FEM (structure.hpp):
+///   phase 1: while more than `weak_limit` (the paper's 0.5%) of the nodes are weak, new elements
+///            are inserted at the centres of the weak regions and the pattern is re-synthesized
+///            (placement, boosting, topology cut), at most `max_insertion_rounds` times;
+///   phase 2: the thickness grows by 10% per iteration until no node is weak.
+///
+/// Usage:
+///   auto syn = fabsynth::filigree::synthesize_pattern(classes, weights, domain, field, so);
+///   auto r = fabsynth::filigree::reinforce(classes, weights, domain, field, so, syn, {.thickness = 1.0});
+///   r.outline;  r.thickness;  r.histogram_before;  r.histogram_after;   // Fig. 21
+///
+/// One piece: the strips are united and opened (shrunk, then grown, by a tenth of the narrowest
+/// strip width), so that parts touching at a single point, which would print as a hinge, count as
+/// separate; when clipping to the domain or the topology cut leaves more than one connected piece,
+/// the largest (by area) is kept and the others are counted in `pieces_dropped` (they could not be
+/// printed attached to the rest).
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/geometry/clip.hpp"
+#include "fabsynth/filigree/reconstruct.hpp"
+#include "fabsynth/filigree/structure.hpp"
+#include "fabsynth/filigree/synthesis.hpp"
+
+namespace fabsynth::filigree {
+
+struct reinforcement_options {
+    bool enabled = true;                 ///< false: strips only, no FEM
+    material_preset material = material_preset::abs;
+    double thickness = 1.0;              ///< initial shell / extrusion thickness, mm
+    double pressure_pa = 1000.0;         ///< external pressure, Pa (§5)
+    double weak_limit = 0.005;           ///< phase 1 target: weak nodes / nodes (§5: 0.5%)
+    int max_insertion_rounds = 3;
+    int resynthesis_rounds = 2;          ///< rounds of placement + boosting after an insertion
+    double mesh_edge = 0.0;              ///< FEM mesh edge length, mm; 0 = 0.6 x the median strip width
+    std::uint64_t seed = 1;
+};
+
+struct reinforcement_result {
+    std::vector<instance> instances;
+    std::vector<polygon_with_holes> outline;  ///< the printable piece (mm), one polygon with holes
+    std::size_t components = 0;               ///< connected pieces of the final outline (1)
+    std::size_t pieces_dropped = 0;           ///< pieces removed because they were not attached to the largest
+    double thickness = 0;                     ///< final, mm
+    bool analysed = false;
+    std::vector<std::size_t> histogram_before, histogram_after;  ///< node counts per 5 MPa bin (Fig. 21)
+    double histogram_bin_mpa = 5.0;
+    double yield_mpa = 0;
+    std::vector<double> weak_fraction_phase1;    ///< per analysis of phase 1 (first = before)
+    std::vector<std::size_t> inserted_per_round; ///< elements added per phase-1 round
+    std::vector<double> thickness_phase2, weak_fraction_phase2;
+    double max_von_mises_before = 0, max_von_mises_after = 0;  ///< MPa
+    std::size_t fem_nodes = 0;
+    std::string solver;
+    double seconds = 0;
+};
+
+namespace detail::reinforce {
+
+// The united strips clipped to the domain and opened by a fifth of the narrowest strip width (so
+// that pieces touching at a point, which would print as a hinge, count as separate); the largest
+// piece, others counted.
+inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skeleton_graph<vec2>>& sk, const planar_domain& d, std::size_t& dropped) {
+    double w = std::numeric_limits<double>::infinity();
+    for (const auto& g : sk)
+        for (graph::vertex_id v = 0; v < g.num_vertices(); ++v)
+            if (g.width(v) > 0) w = std::min(w, g.width(v));
+    std::vector<polygon_with_holes> all = strip_outline(std::span<const graph::skeleton_graph<vec2>>(sk), d.region);
+    if (all.empty() || !std::isfinite(w)) throw solver_error("filigree: the strips are empty");
+    const double eps = 0.1 * w;
+    all = polygon_offset(polygon_offset(all, -eps, 0.1 * eps), eps, 0.1 * eps);
+    if (all.empty()) throw solver_error("filigree: the strips are empty");
+    all = bridge_pinches(std::move(all), 1e-3 * w, 0.1 * w);  // tangencies the opening leaves
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < all.size(); ++i)
+        if (area(all[i]) > area(all[best])) best = i;
+    dropped = all.size() - 1;
+    return {all[best]};
+}
+
+[[nodiscard]] inline double median_width(std::span<const element> classes) {
+    std::vector<double> w;
+    for (const element& e : classes) w.push_back(e.median_width());
+    std::sort(w.begin(), w.end());
+    return w[w.size() / 2];
+}
+
+}  // namespace detail::reinforce
+
+/// Strips, one piece and the structural optimization (see the file comment) of a synthesized
+/// pattern `syn` (from synthesize_pattern with the same classes, domain, field and options).
+template <control_field F>
+[[nodiscard]] reinforcement_result reinforce(std::span<const element> classes, std::span<const double> weights, const planar_domain& domain,
+                                             const F& field, const synthesis_options& so, const synthesis_result& syn,
+                                             const reinforcement_options& opt = {}) {
+    namespace dr = detail::reinforce;
+    require_positive(opt.thickness, "reinforce: thickness (mm)");
+    const auto t0 = std::chrono::steady_clock::now();
+    reinforcement_result r;
+    r.instances = syn.instances;
+    r.thickness = opt.thickness;
+    r.outline = dr::one_piece(syn.skeletons, domain, r.pieces_dropped);
+    if (opt.enabled) {
+        const double h = opt.mesh_edge > 0 ? opt.mesh_edge : 0.6 * dr::median_width(classes);
+        structure_options sopt;
+        sopt.material = preset_material(opt.material);
+        sopt.pressure_pa = opt.pressure_pa;
+        r.yield_mpa = sopt.material.yield_mpa;
+        r.histogram_bin_mpa = sopt.histogram_bin_mpa;
+        fem_triangulation tri = make_fem_triangulation(coarsened_outline(r.outline, 0.25 * h), h);
+        structural_report rep = analyse_structure(tri, r.thickness, sopt);
+        r.analysed = true;
+        r.histogram_before = rep.histogram;
+        r.max_von_mises_before = rep.max_von_mises;
+        r.weak_fraction_phase1.push_back(rep.weak_fraction);
+        // Phase 1: new elements where the piece is weak, then re-synthesis.
+        std::uint32_t cls = 0;
+        for (std::uint32_t c = 1; c < classes.size(); ++c)
+            if (weights[c] > weights[cls]) cls = c;
+        for (int round = 0; round < opt.max_insertion_rounds && rep.weak_fraction > opt.weak_limit; ++round) {
+            std::vector<instance> in = r.instances;
+            std::size_t added = 0;
+            for (const vec2& c : weak_region_centres(rep, 0.5 * classes[cls].size))
+                if (domain.contains(c)) in.push_back(make_instance(classes, cls, c, field)), ++added;
+            r.inserted_per_round.push_back(added);
+            if (added == 0) break;
+            pattern_state s(classes, std::move(in), any_field(field), domain, so.gamma_boundary);
+            synthesis_options again = so;
+            again.max_rounds = opt.resynthesis_rounds;
+            again.seed = so.seed + 1000 * static_cast<std::uint64_t>(round + 1);
+            synthesis_result res;
+            optimize_pattern(s, again, res);
+            std::size_t dropped = 0;
+            auto outline = dr::one_piece(res.skeletons, domain, dropped);
+            fem_triangulation t2 = make_fem_triangulation(coarsened_outline(outline, 0.25 * h), h);
+            structural_report rep2 = analyse_structure(t2, r.thickness, sopt);
+            r.weak_fraction_phase1.push_back(rep2.weak_fraction);
+            if (rep2.weak_fraction >= rep.weak_fraction) break;  // no better: keep the previous layout
+            r.instances = res.instances, r.outline = std::move(outline), r.pieces_dropped = dropped;
+            tri = std::move(t2), rep = std::move(rep2);
+        }
+        // Phase 2: +10% thickness per iteration until no node is weak.
+        const thickening_result th = thicken_until_strong(tri, r.thickness, sopt);
+        if (!th.converged) throw solver_error("filigree: weak nodes remain after thickening to " + std::to_string(th.thickness) + " mm");
+        r.thickness = th.thickness;
+        r.thickness_phase2 = th.thickness_history;
+        r.weak_fraction_phase2 = th.weak_fraction_history;
+        r.histogram_after = th.report.histogram;
+        r.max_von_mises_after = th.report.max_von_mises;
+        r.fem_nodes = th.report.node_positions.size();
+        r.solver = th.report.solver;
+    }
+    r.components = r.outline.size();
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
+}  // namespace fabsynth::filigree

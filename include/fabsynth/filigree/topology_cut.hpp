@@ -1,0 +1,814 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file topology_cut.hpp  Topology cut of a synthesized filigree (filigree-synthesis.md §4.5,
+/// Fig. 9, eq. 4): where the skeletons of two connected elements P and Q cross, trim the short
+/// protruding pieces (case 1) and, where two or more crossings are close, remove the less important
+/// of the two conflicting branches (case 2), without ever disconnecting the pattern.
+///
+/// Usage:
+///   std::vector<fabsynth::graph::skeleton_graph<fabsynth::vec2>> elements = ...;  // world mm
+///   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs = ...;             // connected (P, Q)
+///   auto r = fabsynth::filigree::topology_cut(elements, pairs, {});               // width-based thresholds
+///   r.protrusions_trimmed; r.branches_cut; r.cuts_refused_for_connectivity;
+///
+/// How, for each pair (P, Q) in the given order:
+///  1. Crossings: every point where a live edge of P meets a live edge of Q (candidate edge pairs
+///     from a uniform grid over the edge boxes). Both skeletons are split there: the edge is
+///     replaced by a chain through a new vertex whose width is interpolated along the edge; a
+///     crossing at (or within rounding of) an existing vertex uses that vertex. Collinear overlaps
+///     have no single crossing point and are not crossings (they still make contact, below).
+///     Hits that share a vertex of P or of Q form one crossing site t_i.
+///  2. Clusters: two sites are close when their geodesic distance is below close_intersections
+///     along G(P) and along G(Q); clusters are the classes of "close" (single linkage).
+///  3. Case 2 (Fig. 9b-d): G(P) and G(Q) are decomposed at the sites into subgraphs G_k (the
+///     components of the skeleton with every site vertex cut open). A subgraph of G(P) and one of
+///     G(Q) attached to the same set of >= 2 sites, all in one cluster, are conflicting branches
+///     (two curves sharing their end points); when several subgraphs of one skeleton have the same
+///     set, the shortest is the one in conflict (a subgraph that is all that is left of its
+///     skeleton is no branch). Each gets the importance of eq. 4,
+///     I(G_k) = alpha L(G_k) + beta F(G_k), L = total edge length, F = min over the other
+///     (not yet removed) subgraphs G_j, j != k, of the same skeleton of L(G_j) (0 if there is
+///     none); the one with the lower I is cut (equal I: the branch of the higher instance index).
+///     Conflicts are taken in increasing order of their site sets.
+///  4. Case 1 (Fig. 9a): at a site that is alone in its cluster, every piece of P or Q running from
+///     the site vertex (valence >= 2 there) to a valence-1 end, through valence-2 vertices that are
+///     not sites, and shorter than protrusion_length, is cut. P's pieces first, in edge order.
+/// A cut either happens whole or not at all (refused, counted).
+///
+/// Connected (the constraint: never disconnect the pattern):
+///  - Two instances touch when an edge of one and an edge of the other intersect, or their distance
+///    is at most (w_a + w_b) / 2 with the widths interpolated at the closest points of the two
+///    edges (strips that touch are connected).
+///  - The pattern's components are those of the graph whose nodes are the instances and whose
+///    edges are the touching pairs (whether or not they are listed in connected_pairs).
+///  - An instance's pieces are the components of its live edges (isolated vertices are ignored).
+/// A cut is applied only if the cut instance keeps at least one edge and does not get more pieces,
+/// and the pattern does not get more components: a connected pattern stays connected. A case-2
+/// branch whose removal would detach pieces of its instance takes along the detached pieces
+/// shorter than the protrusion threshold (what is left of a removed dangling branch, Fig. 9d, would
+/// be a protrusion), keeping the longest; any longer detached piece refuses the cut. Touching
+/// pairs are found once on the input; a cut re-examines only the pairs of the cut instance (a
+/// witness edge pair per touching pair, searched again when one of its edges is cut or split).
+/// Splitting an edge never loses a contact, so this view is never more connected than the
+/// geometry.
+///
+/// Determinism: pairs in the given order, sites, subgraphs and pieces in increasing ids; no
+/// randomness, no threads. Complexity per pair: O(E_P + E_Q + K) for K candidate edge pairs of
+/// the grid (near-linear unless edges crowd into few cells), plus bounded Dijkstra searches
+/// around each site and O(V + E) per candidate cut for the piece count; the pattern check costs
+/// O(neighbours of the cut instance) while witnesses hold, a touching search per lost witness, and
+/// O(N + C) (C touching pairs) only when a contact is lost.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
+#include <optional>
+#include <queue>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fabsynth/core/box.hpp"
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/types.hpp"
+#include "fabsynth/core/union_find.hpp"
+#include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/segment.hpp"
+#include "fabsynth/graph/skeleton_graph.hpp"
+
+namespace fabsynth::filigree {
+
+/// Thresholds and weights of topology_cut (§4.5).
+struct topology_cut_options {
+    /// Value of a length threshold that asks for the width-based default.
+    static constexpr double from_widths = -1.0;
+    /// Width-based protrusion_length: this times the larger strip width (of P and Q) at the site.
+    static constexpr double protrusion_width_factor = 1.5;
+    /// Width-based close_intersections: this times the largest strip width at the pair's sites.
+    static constexpr double close_width_factor = 4.0;
+
+    /// mm: case 1 cuts a dangling piece shorter than this beyond a single crossing; case 2 takes
+    /// along detached pieces shorter than this. < 0 (from_widths): protrusion_width_factor x the
+    /// larger strip width at the site (case 2: the largest at the conflict's sites). Finite.
+    double protrusion_length = from_widths;
+    /// mm: case 2 applies to crossings closer than this along both skeletons. < 0 (from_widths):
+    /// close_width_factor x the largest strip width at the pair's crossings. Finite.
+    double close_intersections = from_widths;
+    /// Weights of eq. 4 (dimensionless, so I is in mm); the paper uses alpha = beta = 1. Finite and
+    /// >= 0.
+    double alpha = 1.0, beta = 1.0;
+};
+
+/// What topology_cut did.
+struct topology_cut_report {
+    std::size_t protrusions_trimmed = 0;            ///< case-1 pieces removed
+    std::size_t branches_cut = 0;                   ///< case-2 conflicting branches removed
+    std::size_t cuts_refused_for_connectivity = 0;  ///< candidate cuts (either case) left undone
+};
+
+namespace detail::topocut {
+
+using skeleton = graph::skeleton_graph<vec2>;
+using graph::edge_id;
+using graph::vertex_id;
+inline constexpr std::uint32_t none = 0xffffffffu;
+inline constexpr double infinity = std::numeric_limits<double>::infinity();
+
+/// Per edge slot of one skeleton: 1 = the edge belongs to the cut under consideration.
+using edge_mask = std::vector<std::uint8_t>;
+
+/// True iff e is a live edge of g outside the cut (cut may be null: nothing is cut).
+[[nodiscard]] inline bool usable(const skeleton& g, edge_id e, const edge_mask* cut) {
+    return g.edge_alive(e) && !(cut && (*cut)[e]);
+}
+
+// ---- geometry -------------------------------------------------------------------------------
+
+/// Calls visit(i, j) once for every i, j with a[i] and b[j] intersecting (closed boxes; empty boxes
+/// never intersect), b in increasing j, until visit returns true; returns whether one did. The
+/// boxes of a are bucketed in a uniform grid over the overlap of the two extents whose cell is
+/// the median box side, coarsened to at most about 4 (|a| + |b|) cells; each box of b then looks
+/// only into the cells it covers. Linear unless boxes crowd into a few cells or are much larger
+/// than the median.
+template <class Visit>
+bool for_each_overlapping_box(std::span<const box2> a, std::span<const box2> b, Visit&& visit) {
+    box2 extent_a, extent_b;
+    for (const box2& x : a) extent_a.extend(x);
+    for (const box2& x : b) extent_b.extend(x);
+    if (extent_a.empty() || extent_b.empty() || !extent_a.intersects(extent_b)) return false;
+    const box2 region(glm::max(extent_a.lo, extent_b.lo), glm::min(extent_a.hi, extent_b.hi));
+    std::vector<double> sides;
+    for (const auto boxes : {a, b})
+        for (const box2& x : boxes)
+            if (!x.empty()) sides.push_back(std::max(x.size().x, x.size().y));
+    std::nth_element(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(sides.size() / 2), sides.end());
+    const double w = region.hi.x - region.lo.x, h = region.hi.y - region.lo.y;
+    double cell = sides[sides.size() / 2];
+    if (!(cell > 0.0)) cell = std::max({w, h, 1.0});
+    const double max_cells = 4.0 * static_cast<double>(a.size() + b.size()) + 16.0;
+    while ((std::floor(w / cell) + 1.0) * (std::floor(h / cell) + 1.0) > max_cells) cell *= 1.5;
+    const auto nx = static_cast<std::int64_t>(std::floor(w / cell)) + 1, ny = static_cast<std::int64_t>(std::floor(h / cell)) + 1;
+    auto cell_of = [&](double v, double origin, std::int64_t count) {
+        return std::clamp(static_cast<std::int64_t>(std::floor((v - origin) / cell)), std::int64_t{0}, count - 1);
+    };
+    // calls f(c) for every cell c that box x covers
+    auto for_cells = [&](const box2& x, auto&& f) {
+        const std::int64_t x0 = cell_of(x.lo.x, region.lo.x, nx), x1 = cell_of(x.hi.x, region.lo.x, nx);
+        const std::int64_t y0 = cell_of(x.lo.y, region.lo.y, ny), y1 = cell_of(x.hi.y, region.lo.y, ny);
+        for (std::int64_t y = y0; y <= y1; ++y)
+            for (std::int64_t cx = x0; cx <= x1; ++cx) f(static_cast<std::size_t>(y * nx + cx));
+    };
+    // the boxes of a by cell, in compressed rows: bucket[start[c] .. start[c + 1])
+    std::vector<std::size_t> start(static_cast<std::size_t>(nx * ny) + 1, 0);
+    for (const box2& x : a)
+        if (x.intersects(region)) for_cells(x, [&](std::size_t c) { ++start[c + 1]; });
+    for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    std::vector<std::size_t> bucket(start.back()), fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].intersects(region)) for_cells(a[i], [&](std::size_t c) { bucket[fill[c]++] = i; });
+    std::vector<std::size_t> seen(a.size(), static_cast<std::size_t>(-1));  // last j that looked at i
+    for (std::size_t j = 0; j < b.size(); ++j) {
+        if (!b[j].intersects(region)) continue;
+        bool stop = false;
+        for_cells(b[j], [&](std::size_t c) {
+            for (std::size_t k = start[c]; k < start[c + 1] && !stop; ++k) {
+                const std::size_t i = bucket[k];
+                if (seen[i] == j) continue;
+                seen[i] = j;
+                stop = a[i].intersects(b[j]) && visit(i, j);
+            }
+        });
+        if (stop) return true;
+    }
+    return false;
+}
+
+/// Parameters along [a, b] (t) and [c, d] (s) of the point where the two segments cross or touch.
+struct crossing_parameters {
+    double t, s;
+};
+
+/// The single common point of segments [a, b] and [c, d], or nothing if they are disjoint or
+/// collinear (overlapping collinear segments share no single crossing point).
+[[nodiscard]] inline std::optional<crossing_parameters> segment_crossing(vec2 a, vec2 b, vec2 c, vec2 d) {
+    if (!fabsynth::detail::segments_intersect(a, b, c, d)) return std::nullopt;
+    const vec2 r = b - a, q = d - c, ac = c - a;
+    const double denom = r.x * q.y - r.y * q.x;
+    if (denom == 0.0) return std::nullopt;
+    // a + t r = c + s q, crossed with q and with r
+    const double t = (ac.x * q.y - ac.y * q.x) / denom, s = (ac.x * r.y - ac.y * r.x) / denom;
+    return crossing_parameters{std::clamp(t, 0.0, 1.0), std::clamp(s, 0.0, 1.0)};
+}
+
+/// True iff the strips around edge e of g and edge f of h touch: the edges intersect, or their
+/// distance is at most (w_e + w_f) / 2 with both widths interpolated at the closest points.
+[[nodiscard]] inline bool edges_touch(const skeleton& g, edge_id e, const skeleton& h, edge_id f) {
+    const auto [u0, u1] = g.endpoints(e);
+    const auto [v0, v1] = h.endpoints(f);
+    const vec2 a0 = g.position(u0), a1 = g.position(u1), b0 = h.position(v0), b1 = h.position(v1);
+    if (fabsynth::detail::segments_intersect(a0, a1, b0, b1)) return true;
+    // Disjoint segments in the plane: an end point of one of them is one of the closest points.
+    double best = infinity, reach = 0.0;
+    auto consider = [&](vec2 p, double wp, vec2 s0, vec2 s1, double w0, double w1) {
+        const double t = segment_closest_parameter(p, s0, s1);
+        const vec2 d = p - (s0 + t * (s1 - s0));
+        const double d2 = glm::dot(d, d);
+        if (d2 < best) best = d2, reach = 0.5 * (wp + w0 + t * (w1 - w0));
+    };
+    consider(a0, g.width(u0), b0, b1, h.width(v0), h.width(v1));
+    consider(a1, g.width(u1), b0, b1, h.width(v0), h.width(v1));
+    consider(b0, h.width(v0), a0, a1, g.width(u0), g.width(u1));
+    consider(b1, h.width(v1), a0, a1, g.width(u0), g.width(u1));
+    return best <= reach * reach;
+}
+
+/// The live edges of g outside the cut and their boxes (grown by half the larger end width when
+/// `grown`, so that touching strips have intersecting boxes).
+struct edge_boxes {
+    std::vector<edge_id> ids;
+    std::vector<box2> boxes;
+};
+
+[[nodiscard]] inline edge_boxes boxes_of(const skeleton& g, const edge_mask* cut, bool grown) {
+    edge_boxes r;
+    for (edge_id e = 0; e < g.edge_slots(); ++e) {
+        if (!usable(g, e, cut)) continue;
+        const auto [u, v] = g.endpoints(e);
+        box2 b;
+        b.extend(g.position(u)).extend(g.position(v));
+        r.ids.push_back(e);
+        r.boxes.push_back(grown ? b.inflated(0.5 * std::max(g.width(u), g.width(v))) : b);
+    }
+    return r;
+}
+
+/// A touching edge pair (edge of g outside the cut, edge of h), or nothing.
+[[nodiscard]] inline std::optional<std::pair<edge_id, edge_id>> touching_edges(const skeleton& g, const edge_mask* g_cut, const skeleton& h) {
+    const edge_boxes eg = boxes_of(g, g_cut, true), eh = boxes_of(h, nullptr, true);
+    std::optional<std::pair<edge_id, edge_id>> found;
+    for_each_overlapping_box(eg.boxes, eh.boxes, [&](std::size_t i, std::size_t j) {
+        if (!edges_touch(g, eg.ids[i], h, eh.ids[j])) return false;
+        found.emplace(eg.ids[i], eh.ids[j]);
+        return true;
+    });
+    return found;
+}
+
+// ---- connectivity ---------------------------------------------------------------------------
+
+/// Pieces of one skeleton: components of its live edges outside the cut; isolated vertices have no
+/// piece. Pieces are numbered in order of their smallest vertex id.
+struct skeleton_pieces {
+    std::vector<std::uint32_t> of_vertex;  ///< piece per vertex, none = no usable edge
+    std::vector<double> length;            ///< total edge length per piece (mm)
+    [[nodiscard]] std::size_t count() const noexcept { return length.size(); }
+};
+
+[[nodiscard]] inline skeleton_pieces pieces_of(const skeleton& g, const edge_mask* cut) {
+    union_find uf(g.num_vertices());
+    for (edge_id e = 0; e < g.edge_slots(); ++e)
+        if (usable(g, e, cut)) uf.unite(g.endpoints(e).first, g.endpoints(e).second);
+    skeleton_pieces p;
+    p.of_vertex.assign(g.num_vertices(), none);
+    std::vector<std::uint8_t> has_edge(g.num_vertices(), 0);
+    for (edge_id e = 0; e < g.edge_slots(); ++e)
+        if (usable(g, e, cut)) has_edge[g.endpoints(e).first] = has_edge[g.endpoints(e).second] = 1;
+    for (vertex_id v = 0; v < g.num_vertices(); ++v) {
+        if (!has_edge[v]) continue;
+        const vertex_id root = uf.find(v);  // the smallest id of the set: labelled first
+        if (root == v) p.of_vertex[v] = static_cast<std::uint32_t>(p.length.size()), p.length.push_back(0.0);
+        else p.of_vertex[v] = p.of_vertex[root];
+    }
+    for (edge_id e = 0; e < g.edge_slots(); ++e)
+        if (usable(g, e, cut)) p.length[p.of_vertex[g.endpoints(e).first]] += g.length(e);
+    return p;
+}
+
+/// The touch graph of the pattern (see the file comment) and its component count. Each touching
+/// pair keeps a witness: one touching edge pair, which stays valid while both edges live.
+class pattern_contacts {
+public:
+    /// What cutting some edges of one instance would do to the touch graph.
+    struct verdict {
+        bool keeps_components = true;   ///< the component count does not grow
+        std::vector<std::size_t> lost;  ///< contacts (indices) that the cut breaks
+    };
+
+    /// Finds the touching pairs of the instances (candidates from their grown boxes).
+    explicit pattern_contacts(const std::vector<skeleton>& instances) : instances_(&instances), of_(instances.size()) {
+        std::vector<box2> boxes(instances.size());
+        for (std::size_t k = 0; k < instances.size(); ++k)
+            for (const box2& b : boxes_of(instances[k], nullptr, true).boxes) boxes[k].extend(b);
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;
+        for_each_overlapping_box(boxes, boxes, [&](std::size_t i, std::size_t j) {
+            if (i < j) candidates.emplace_back(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+            return false;
+        });
+        std::sort(candidates.begin(), candidates.end());
+        for (const auto& [a, b] : candidates)
+            if (const auto w = touching_edges(instances[a], nullptr, instances[b])) {
+                of_[a].push_back(contacts_.size());
+                of_[b].push_back(contacts_.size());
+                contacts_.push_back({a, b, w->first, w->second, true});
+            }
+        components_ = count_components({});
+    }
+
+    /// The effect of cutting the masked edges of instance x: contacts of x whose witness loses an
+    /// edge are searched again (a new witness is kept whatever the verdict: it avoids the cut).
+    [[nodiscard]] verdict check_cut(std::uint32_t x, const edge_mask& cut) {
+        const auto& inst = *instances_;
+        verdict r;
+        for (const std::size_t k : of_[x]) {
+            contact& c = contacts_[k];
+            if (!c.alive) continue;
+            const bool x_first = c.a == x;
+            const std::uint32_t y = x_first ? c.b : c.a;
+            edge_id& on_x = x_first ? c.edge_a : c.edge_b;
+            edge_id& on_y = x_first ? c.edge_b : c.edge_a;
+            if (usable(inst[x], on_x, &cut) && inst[y].edge_alive(on_y)) continue;
+            if (const auto w = touching_edges(inst[x], &cut, inst[y])) on_x = w->first, on_y = w->second;
+            else r.lost.push_back(k);
+        }
+        if (!r.lost.empty()) r.keeps_components = count_components(r.lost) <= components_;
+        return r;
+    }
+    /// Records an applied cut.
+    void commit(const verdict& v) {
+        for (const std::size_t k : v.lost) contacts_[k].alive = false;
+    }
+
+private:
+    struct contact {
+        std::uint32_t a, b;     // instances, a < b
+        edge_id edge_a, edge_b; // witness
+        bool alive;
+    };
+    /// Components of the touch graph without the `without` contacts (sorted indices).
+    [[nodiscard]] std::size_t count_components(const std::vector<std::size_t>& without) const {
+        union_find uf(instances_->size());
+        for (std::size_t k = 0; k < contacts_.size(); ++k)
+            if (contacts_[k].alive && !std::binary_search(without.begin(), without.end(), k)) uf.unite(contacts_[k].a, contacts_[k].b);
+        return uf.sets();
+    }
+
+    const std::vector<skeleton>* instances_;
+    std::vector<contact> contacts_;
+    std::vector<std::vector<std::size_t>> of_;  // contacts per instance, increasing
+    std::size_t components_ = 0;
+};
+
+/// Applies the cut of the masked edges of instance x if it is allowed (file comment): with
+/// detach_below > 0, pieces that the cut detaches and that are shorter than detach_below (mm) join
+/// the cut, the longest detached piece staying. Returns whether the cut was applied.
+inline bool try_cut(std::vector<skeleton>& instances, std::uint32_t x, edge_mask cut, double detach_below, pattern_contacts& contacts) {
+    skeleton& g = instances[x];
+    const std::size_t pieces_before = pieces_of(g, nullptr).count();
+    skeleton_pieces after = pieces_of(g, &cut);
+    if (after.count() > pieces_before && detach_below > 0.0) {
+        std::vector<std::uint32_t> at_cut;  // pieces touching an end of a cut edge
+        for (edge_id e = 0; e < g.edge_slots(); ++e) {
+            if (!cut[e] || !g.edge_alive(e)) continue;
+            for (const vertex_id v : {g.endpoints(e).first, g.endpoints(e).second})
+                if (after.of_vertex[v] != none) at_cut.push_back(after.of_vertex[v]);
+        }
+        std::sort(at_cut.begin(), at_cut.end());
+        at_cut.erase(std::unique(at_cut.begin(), at_cut.end()), at_cut.end());
+        if (at_cut.size() > 1) {
+            std::uint32_t keep = at_cut[0];
+            for (const std::uint32_t p : at_cut)
+                if (after.length[p] > after.length[keep]) keep = p;
+            std::vector<std::uint8_t> detach(after.count(), 0);
+            for (const std::uint32_t p : at_cut) detach[p] = p != keep && after.length[p] < detach_below;
+            for (edge_id e = 0; e < g.edge_slots(); ++e)
+                if (usable(g, e, &cut) && detach[after.of_vertex[g.endpoints(e).first]]) cut[e] = 1;
+            after = pieces_of(g, &cut);
+        }
+    }
+    if (after.count() == 0 || after.count() > pieces_before) return false;
+    const pattern_contacts::verdict v = contacts.check_cut(x, cut);
+    if (!v.keeps_components) return false;
+    for (edge_id e = 0; e < g.edge_slots(); ++e)
+        if (cut[e] && g.edge_alive(e)) g.remove_edge(e);
+    contacts.commit(v);
+    return true;
+}
+
+// ---- phase 1: crossings ---------------------------------------------------------------------
+
+/// One edge-edge crossing of P and Q: the edges, the parameters along them, the point.
+struct crossing_hit {
+    edge_id edge_p, edge_q;
+    double t_p, t_q;
+    vec2 point;
+};
+
+/// Every crossing of a live edge of P with a live edge of Q, in increasing (edge_q, edge_p).
+[[nodiscard]] inline std::vector<crossing_hit> find_crossing_hits(const skeleton& P, const skeleton& Q) {
+    const edge_boxes ep = boxes_of(P, nullptr, false), eq = boxes_of(Q, nullptr, false);
+    std::vector<crossing_hit> hits;
+    for_each_overlapping_box(ep.boxes, eq.boxes, [&](std::size_t i, std::size_t j) {
+        const auto [a, b] = P.endpoints(ep.ids[i]);
+        const auto [c, d] = Q.endpoints(eq.ids[j]);
+        const vec2 pa = P.position(a), pb = P.position(b);
+        if (const auto x = segment_crossing(pa, pb, Q.position(c), Q.position(d)))
+            hits.push_back({ep.ids[i], eq.ids[j], x->t, x->s, pa + x->t * (pb - pa)});
+        return false;
+    });
+    std::sort(hits.begin(), hits.end(), [](const crossing_hit& x, const crossing_hit& y) {
+        return x.edge_q != y.edge_q ? x.edge_q < y.edge_q : x.edge_p < y.edge_p;
+    });
+    return hits;
+}
+
+/// A point where edge `edge` of a skeleton is to be split (parameter t from its first endpoint).
+struct split_point {
+    edge_id edge;
+    double t;
+    vec2 point;
+    std::size_t hit;
+};
+
+/// Splits the edges of g at the given points and returns the vertex at each hit (indexed by hit).
+/// Points within rounding of an end point (1e-9 relative to the coordinates) or of the previous
+/// point on the same edge reuse that vertex; new vertices sit at the given point with the width
+/// interpolated along the edge.
+[[nodiscard]] inline std::vector<vertex_id> split_edges_at(skeleton& g, std::vector<split_point> at, std::size_t hits) {
+    std::sort(at.begin(), at.end(), [](const split_point& x, const split_point& y) {
+        return x.edge != y.edge ? x.edge < y.edge : x.t != y.t ? x.t < y.t : x.hit < y.hit;
+    });
+    std::vector<vertex_id> vertex_of(hits, graph::no_vertex);
+    for (std::size_t k = 0; k < at.size();) {
+        const edge_id e = at[k].edge;
+        const auto [u, v] = g.endpoints(e);
+        const vec2 pu = g.position(u), pv = g.position(v);
+        const double wu = g.width(u), wv = g.width(v), len = g.length(e);
+        const double snap = 1e-9 * (1.0 + std::max({std::abs(pu.x), std::abs(pu.y), std::abs(pv.x), std::abs(pv.y)}));
+        std::vector<vertex_id> chain{u};
+        double last_t = 0.0;
+        for (; k < at.size() && at[k].edge == e; ++k) {
+            const double t = at[k].t;
+            vertex_id x;
+            if (t * len <= snap) x = u;
+            else if ((1.0 - t) * len <= snap) x = v;
+            else if (chain.size() > 1 && (t - last_t) * len <= snap) x = chain.back();
+            else x = g.add_vertex(at[k].point, wu + t * (wv - wu)), chain.push_back(x), last_t = t;
+            vertex_of[at[k].hit] = x;
+        }
+        if (chain.size() == 1) continue;
+        chain.push_back(v);
+        g.remove_edge(e);
+        for (std::size_t i = 0; i + 1 < chain.size(); ++i) g.add_edge(chain[i], chain[i + 1]);
+    }
+    return vertex_of;
+}
+
+/// A crossing site t_i: the vertices of G(P) and G(Q) there (usually one each).
+struct crossing_site {
+    std::vector<vertex_id> at_p, at_q;
+    double width = 0.0;  ///< larger strip width of P and Q at the site (mm)
+};
+
+/// The sites of one pair and, per vertex of P and of Q, its site (none if it is not at one).
+struct pair_crossings {
+    std::vector<crossing_site> sites;
+    std::vector<std::uint32_t> site_of_p, site_of_q;
+};
+
+/// Phase 1: splits P and Q at their crossings and groups the crossing vertices into sites.
+[[nodiscard]] inline pair_crossings split_at_crossings(skeleton& P, skeleton& Q) {
+    const std::vector<crossing_hit> hits = find_crossing_hits(P, Q);
+    pair_crossings x;
+    if (hits.empty()) return x;
+    std::vector<split_point> on_p, on_q;
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+        on_p.push_back({hits[k].edge_p, hits[k].t_p, hits[k].point, k});
+        on_q.push_back({hits[k].edge_q, hits[k].t_q, hits[k].point, k});
+    }
+    const std::vector<vertex_id> vp = split_edges_at(P, std::move(on_p), hits.size()), vq = split_edges_at(Q, std::move(on_q), hits.size());
+    std::vector<std::pair<vertex_id, vertex_id>> records;
+    for (std::size_t k = 0; k < hits.size(); ++k) records.emplace_back(vp[k], vq[k]);
+    std::sort(records.begin(), records.end());
+    records.erase(std::unique(records.begin(), records.end()), records.end());
+    // records sharing a vertex of P or of Q are one site
+    union_find same(records.size());
+    std::vector<std::uint32_t> first_p(P.num_vertices(), none), first_q(Q.num_vertices(), none);
+    for (std::uint32_t r = 0; r < records.size(); ++r) {
+        for (auto* first : {&first_p[records[r].first], &first_q[records[r].second]}) {
+            if (*first == none) *first = r;
+            else same.unite(*first, r);
+        }
+    }
+    x.site_of_p.assign(P.num_vertices(), none);
+    x.site_of_q.assign(Q.num_vertices(), none);
+    std::vector<std::uint32_t> site_of_record(records.size());
+    for (std::uint32_t r = 0; r < records.size(); ++r) {
+        const std::uint32_t root = same.find(r);  // smallest record of the set: seen first
+        if (root == r) site_of_record[r] = static_cast<std::uint32_t>(x.sites.size()), x.sites.emplace_back();
+        else site_of_record[r] = site_of_record[root];
+        const std::uint32_t s = site_of_record[r];
+        crossing_site& site = x.sites[s];
+        const auto [p, q] = records[r];
+        if (x.site_of_p[p] == none) x.site_of_p[p] = s, site.at_p.push_back(p);
+        if (x.site_of_q[q] == none) x.site_of_q[q] = s, site.at_q.push_back(q);
+        site.width = std::max({site.width, P.width(p), Q.width(q)});
+    }
+    return x;
+}
+
+// ---- phase 2: clusters of close crossings ---------------------------------------------------
+
+/// Geodesic distances along a skeleton from one vertex to the vertices closer than a radius
+/// (Dijkstra stopped at the radius). The distance array is reset only where the last run wrote.
+class bounded_search {
+public:
+    explicit bounded_search(const skeleton& g) : g_(&g), distance_(g.num_vertices(), infinity) {}
+
+    /// Calls found(v) for every vertex v whose geodesic distance from `source` is < radius (mm).
+    template <class Found>
+    void run(vertex_id source, double radius, Found&& found) {
+        for (const vertex_id v : touched_) distance_[v] = infinity;
+        touched_.clear();
+        using entry = std::pair<double, vertex_id>;
+        std::priority_queue<entry, std::vector<entry>, std::greater<entry>> heap;
+        distance_[source] = 0.0;
+        touched_.push_back(source);
+        heap.push({0.0, source});
+        while (!heap.empty()) {
+            const auto [d, v] = heap.top();
+            heap.pop();
+            if (d > distance_[v]) continue;
+            found(v);
+            for (const edge_id e : g_->incident(v)) {
+                const vertex_id w = g_->other(e, v);
+                const double dw = d + g_->length(e);
+                if (!(dw < radius) || !(dw < distance_[w])) continue;
+                if (distance_[w] == infinity) touched_.push_back(w);
+                distance_[w] = dw;
+                heap.push({dw, w});
+            }
+        }
+    }
+
+private:
+    const skeleton* g_;
+    std::vector<double> distance_;
+    std::vector<vertex_id> touched_;
+};
+
+/// Phase 2: cluster label (smallest site of the cluster) and cluster size per site; sites i, j
+/// are close when closer than `radius` (mm) along both skeletons.
+struct site_clusters {
+    std::vector<std::uint32_t> of_site;
+    std::vector<std::uint32_t> size;  ///< per site: size of its cluster
+};
+
+[[nodiscard]] inline site_clusters cluster_close_crossings(const skeleton& P, const skeleton& Q, const pair_crossings& x, double radius) {
+    const std::size_t m = x.sites.size();
+    union_find close(m);
+    if (m > 1 && radius > 0.0) {
+        bounded_search along_p(P), along_q(Q);
+        std::vector<std::uint32_t> near_on_p(m, none);  // = i when site j is within radius of i along P
+        for (std::uint32_t i = 0; i < m; ++i) {
+            along_p.run(x.sites[i].at_p[0], radius, [&](vertex_id v) {
+                if (x.site_of_p[v] != none) near_on_p[x.site_of_p[v]] = i;
+            });
+            along_q.run(x.sites[i].at_q[0], radius, [&](vertex_id v) {
+                const std::uint32_t j = x.site_of_q[v];
+                if (j != none && j != i && near_on_p[j] == i) close.unite(i, j);
+            });
+        }
+    }
+    site_clusters c;
+    c.of_site.resize(m);
+    c.size.assign(m, 0);
+    for (std::uint32_t i = 0; i < m; ++i) c.of_site[i] = close.find(i), ++c.size[c.of_site[i]];
+    for (std::uint32_t i = 0; i < m; ++i) c.size[i] = c.size[c.of_site[i]];
+    return c;
+}
+
+// ---- phase 3: case 2, conflicting branches --------------------------------------------------
+
+/// A subgraph G_k of the decomposition at the sites: its edges, L(G_k) and the sites it touches.
+struct branch_part {
+    std::vector<edge_id> edges;
+    double length = 0.0;               ///< L(G_k), mm
+    std::vector<std::uint32_t> sites;  ///< increasing, distinct
+    bool removed = false;
+};
+
+/// The subgraphs of g cut open at every site vertex, in order of their smallest edge id.
+[[nodiscard]] inline std::vector<branch_part> decompose_at_sites(const skeleton& g, const std::vector<std::uint32_t>& site_of) {
+    union_find joined(g.edge_slots());
+    for (vertex_id v = 0; v < g.num_vertices(); ++v) {
+        if (site_of[v] != none) continue;
+        const auto inc = g.incident(v);
+        for (std::size_t k = 1; k < inc.size(); ++k) joined.unite(inc[0], inc[k]);
+    }
+    std::vector<branch_part> parts;
+    std::vector<std::uint32_t> part_of(g.edge_slots(), none);
+    for (edge_id e = 0; e < g.edge_slots(); ++e) {
+        if (!g.edge_alive(e)) continue;
+        const edge_id root = joined.find(e);  // smallest edge of the set: seen first
+        if (part_of[root] == none) part_of[root] = static_cast<std::uint32_t>(parts.size()), parts.emplace_back();
+        part_of[e] = part_of[root];
+        parts[part_of[e]].edges.push_back(e);
+        parts[part_of[e]].length += g.length(e);
+    }
+    for (vertex_id v = 0; v < g.num_vertices(); ++v)
+        if (site_of[v] != none)
+            for (const edge_id e : g.incident(v)) parts[part_of[e]].sites.push_back(site_of[v]);
+    for (branch_part& p : parts) {
+        std::sort(p.sites.begin(), p.sites.end());
+        p.sites.erase(std::unique(p.sites.begin(), p.sites.end()), p.sites.end());
+    }
+    return parts;
+}
+
+/// Eq. 4: I(G_k) = alpha L(G_k) + beta F(G_k), F(G_k) = min over the other parts not removed of
+/// their length (0 if there is none).
+[[nodiscard]] inline double importance(const std::vector<branch_part>& parts, std::size_t k, const topology_cut_options& opt) {
+    double frontier = infinity;
+    for (std::size_t j = 0; j < parts.size(); ++j)
+        if (j != k && !parts[j].removed) frontier = std::min(frontier, parts[j].length);
+    return opt.alpha * parts[k].length + opt.beta * (frontier == infinity ? 0.0 : frontier);
+}
+
+/// Per site set (>= 2 sites, one cluster), the shortest part attached to exactly that set.
+[[nodiscard]] inline std::map<std::vector<std::uint32_t>, std::size_t> conflict_candidates(const std::vector<branch_part>& parts,
+                                                                                          const site_clusters& clusters) {
+    std::map<std::vector<std::uint32_t>, std::size_t> best;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+        const auto& s = parts[k].sites;
+        if (s.size() < 2) continue;
+        if (!std::all_of(s.begin(), s.end(), [&](std::uint32_t i) { return clusters.of_site[i] == clusters.of_site[s[0]]; })) continue;
+        const auto [it, fresh] = best.try_emplace(s, k);
+        if (!fresh && parts[k].length < parts[it->second].length) it->second = k;
+    }
+    return best;
+}
+
+/// True iff part k is the only part of its skeleton not removed.
+[[nodiscard]] inline bool only_part_left(const std::vector<branch_part>& parts, std::size_t k) {
+    for (std::size_t j = 0; j < parts.size(); ++j)
+        if (j != k && !parts[j].removed) return false;
+    return true;
+}
+
+/// Threshold of a length option: the value, or factor x width when it asks for the default.
+[[nodiscard]] inline double threshold(double option, double factor, double width) { return option >= 0.0 ? option : factor * width; }
+
+/// Phase 3 (case 2, Fig. 9b-d) for the pair (p, q).
+inline void cut_conflicting_branches(std::vector<skeleton>& instances, std::uint32_t p, std::uint32_t q, const pair_crossings& x,
+                                     const site_clusters& clusters, const topology_cut_options& opt, pattern_contacts& contacts,
+                                     topology_cut_report& report) {
+    if (std::none_of(clusters.size.begin(), clusters.size.end(), [](std::uint32_t s) { return s > 1; })) return;
+    std::vector<branch_part> parts_p = decompose_at_sites(instances[p], x.site_of_p), parts_q = decompose_at_sites(instances[q], x.site_of_q);
+    const auto on_p = conflict_candidates(parts_p, clusters), on_q = conflict_candidates(parts_q, clusters);
+    for (const auto& [sites, kp] : on_p) {
+        const auto match = on_q.find(sites);
+        if (match == on_q.end()) continue;
+        const std::size_t kq = match->second;
+        if (parts_p[kp].removed || parts_q[kq].removed) continue;
+        if (only_part_left(parts_p, kp) || only_part_left(parts_q, kq)) continue;  // a whole skeleton is no branch
+        const double ip = importance(parts_p, kp, opt), iq = importance(parts_q, kq, opt);
+        // the lower importance is cut; equal importance cuts the branch of the higher instance index
+        const bool cut_p = ip < iq || (ip == iq && p > q);
+        const std::uint32_t owner = cut_p ? p : q;
+        std::vector<branch_part>& parts = cut_p ? parts_p : parts_q;
+        skeleton& g = instances[owner];
+        edge_mask cut(g.edge_slots(), 0);
+        for (const edge_id e : parts[cut_p ? kp : kq].edges) cut[e] = 1;
+        double widest = 0.0;
+        for (const std::uint32_t s : sites) widest = std::max(widest, x.sites[s].width);
+        const double detach_below = threshold(opt.protrusion_length, topology_cut_options::protrusion_width_factor, widest);
+        if (!try_cut(instances, owner, std::move(cut), detach_below, contacts)) {
+            ++report.cuts_refused_for_connectivity;
+            continue;
+        }
+        ++report.branches_cut;
+        for (branch_part& part : parts)  // the branch and any pieces it took along
+            part.removed = part.removed || std::none_of(part.edges.begin(), part.edges.end(), [&](edge_id e) { return g.edge_alive(e); });
+    }
+}
+
+// ---- phase 4: case 1, protrusions -----------------------------------------------------------
+
+/// The run of edges from vertex `from` along edge `first` through valence-2 vertices that are not
+/// sites; dangling = it ends at a valence-1 vertex that is not a site.
+struct skeleton_run {
+    std::vector<edge_id> edges;
+    double length = 0.0;
+    bool dangling = false;
+};
+
+[[nodiscard]] inline skeleton_run walk_run(const skeleton& g, vertex_id from, edge_id first, const std::vector<std::uint32_t>& site_of) {
+    skeleton_run r;
+    vertex_id at = from;
+    edge_id e = first;
+    for (;;) {
+        r.edges.push_back(e);
+        r.length += g.length(e);
+        at = g.other(e, at);
+        if (at == from || site_of[at] != none || g.valence(at) != 2) break;
+        const auto inc = g.incident(at);
+        e = inc[0] == e ? inc[1] : inc[0];
+    }
+    r.dangling = g.valence(at) == 1 && site_of[at] == none;
+    return r;
+}
+
+/// Phase 4 (case 1, Fig. 9a) for the pair (p, q): at every site alone in its cluster.
+inline void trim_protrusions(std::vector<skeleton>& instances, std::uint32_t p, std::uint32_t q, const pair_crossings& x,
+                             const site_clusters& clusters, const topology_cut_options& opt, pattern_contacts& contacts,
+                             topology_cut_report& report) {
+    for (std::uint32_t s = 0; s < x.sites.size(); ++s) {
+        if (clusters.size[s] != 1) continue;
+        const double shorter_than = threshold(opt.protrusion_length, topology_cut_options::protrusion_width_factor, x.sites[s].width);
+        if (!(shorter_than > 0.0)) continue;
+        for (const auto& [owner, at, site_of] : {std::tuple{p, &x.sites[s].at_p, &x.site_of_p}, std::tuple{q, &x.sites[s].at_q, &x.site_of_q}}) {
+            skeleton& g = instances[owner];
+            for (const vertex_id v : *at) {
+                const std::vector<edge_id> leaving(g.incident(v).begin(), g.incident(v).end());
+                for (const edge_id e : leaving) {
+                    if (g.valence(v) < 2) break;  // the skeleton only ends at the crossing: nothing protrudes
+                    if (!g.edge_alive(e)) continue;
+                    const skeleton_run run = walk_run(g, v, e, *site_of);
+                    if (!run.dangling || !(run.length < shorter_than)) continue;
+                    edge_mask cut(g.edge_slots(), 0);
+                    for (const edge_id c : run.edges) cut[c] = 1;
+                    if (try_cut(instances, owner, std::move(cut), 0.0, contacts)) ++report.protrusions_trimmed;
+                    else ++report.cuts_refused_for_connectivity;
+                }
+            }
+        }
+    }
+}
+
+// ---- driver ---------------------------------------------------------------------------------
+
+/// Throws invalid_input for an option out of its domain or a pair naming a missing instance or
+/// the same instance twice. (Positions and widths are finite by construction: skeleton_graph
+/// refuses others.)
+inline void check_input(const std::vector<skeleton>& instances, std::span<const std::pair<std::uint32_t, std::uint32_t>> pairs,
+                        const topology_cut_options& opt) {
+    for (const auto& [value, name] : {std::pair{opt.protrusion_length, "protrusion_length"}, std::pair{opt.close_intersections, "close_intersections"}})
+        if (!std::isfinite(value))
+            throw invalid_input(std::string("topology_cut: ") + name + " must be finite (negative: from the widths), got " + std::to_string(value));
+    for (const auto& [value, name] : {std::pair{opt.alpha, "alpha"}, std::pair{opt.beta, "beta"}})
+        if (!(std::isfinite(value) && value >= 0.0))
+            throw invalid_input(std::string("topology_cut: ") + name + " must be finite and >= 0, got " + std::to_string(value));
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const auto [a, b] = pairs[k];
+        const std::string name = "topology_cut: connected pair " + std::to_string(k) + " (" + std::to_string(a) + ", " + std::to_string(b) + ")";
+        for (const std::uint32_t i : {a, b})
+            if (i >= instances.size())
+                throw invalid_input(name + " names instance " + std::to_string(i) + ", out of range for " + std::to_string(instances.size()) +
+                                    " instances");
+        if (a == b) throw invalid_input(name + " pairs an instance with itself");
+    }
+}
+
+/// All four phases for one connected pair (p, q).
+inline void cut_pair(std::vector<skeleton>& instances, std::uint32_t p, std::uint32_t q, const topology_cut_options& opt,
+                     pattern_contacts& contacts, topology_cut_report& report) {
+    const pair_crossings x = split_at_crossings(instances[p], instances[q]);
+    if (x.sites.empty()) return;
+    double widest = 0.0;
+    for (const crossing_site& s : x.sites) widest = std::max(widest, s.width);
+    const double close = threshold(opt.close_intersections, topology_cut_options::close_width_factor, widest);
+    const site_clusters clusters = cluster_close_crossings(instances[p], instances[q], x, close);
+    cut_conflicting_branches(instances, p, q, x, clusters, opt, contacts, report);
+    trim_protrusions(instances, p, q, x, clusters, opt, contacts, report);
+}
+
+}  // namespace detail::topocut
+
+/// Topology cut (§4.5) of the element instances, in place: for every connected pair (P, Q), in
+/// the given order, splits both skeletons at their crossings, removes the less important of each
+/// pair of conflicting branches between close crossings (case 2, eq. 4) and trims protrusions
+/// beyond single crossings (case 1), refusing every cut that would disconnect the pattern (see
+/// the file comment for the phases and for what "connected" means).
+/// @param instances       skeletons of the element instances in world coordinates (mm); edited:
+///                        edges are split (new vertices) and removed (dead slots), never moved
+/// @param connected_pairs indices (P, Q) into instances, P != Q, in processing order
+/// @param opt             thresholds (mm) and the weights of eq. 4
+/// @return counts of the cuts made and refused
+/// Throws invalid_input naming the pair for an index out of range or P == Q, and naming the
+/// option for a non-finite threshold or a weight that is not finite and >= 0; nothing is changed
+/// then.
+inline topology_cut_report topology_cut(std::vector<graph::skeleton_graph<vec2>>& instances,
+                                        std::span<const std::pair<std::uint32_t, std::uint32_t>> connected_pairs,
+                                        const topology_cut_options& opt = {}) {
+    detail::topocut::check_input(instances, connected_pairs, opt);
+    topology_cut_report report;
+    if (connected_pairs.empty()) return report;
+    detail::topocut::pattern_contacts contacts(instances);
+    for (const auto& [p, q] : connected_pairs) detail::topocut::cut_pair(instances, p, q, opt, contacts, report);
+    return report;
+}
+
+}  // namespace fabsynth::filigree

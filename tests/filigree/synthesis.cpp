@@ -1,0 +1,257 @@
+// Filigree pattern synthesis (filigree-synthesis.md §3.3, §4.1-§4.4): elements from SVG, the
+// matching energy against brute-force oracles, the initialization rules recomputed independently,
+// class proportions, and the monotone energy of placement and boosting on every bundled element.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "fabsynth/core/parallel.hpp"
+#include "fabsynth/core/rng.hpp"
+#include "fabsynth/filigree/boosting.hpp"
+#include "fabsynth/filigree/element.hpp"
+#include "fabsynth/filigree/initialization.hpp"
+#include "fabsynth/filigree/matching.hpp"
+#include "fabsynth/filigree/placement.hpp"
+#include "fabsynth/geometry/clip.hpp"
+#include "fabsynth/io/svg.hpp"
+
+namespace synth_test {
+
+using namespace fabsynth;
+using namespace fabsynth::filigree;
+namespace fs = std::filesystem;
+
+const fs::path data = FABSYNTH_DATA_DIR;
+
+inline std::vector<std::string> bundled() { return {"spiral", "s_curl", "c_scroll", "leaf", "heart_curls"}; }
+
+inline element load(const std::string& name, double size = 20, double width = 0.8) {
+    element_options o;
+    o.size_mm = size;
+    o.width_mm = width;
+    o.name = name;
+    return element_from_svg(io::read_svg(data / "filigree" / (name + ".svg"), 0.01), o);
+}
+
+// Oracle for eq. 1, written from the formula: every pair, no trees.
+inline double brute_mh(const std::vector<vec2>& U, const std::vector<vec2>& V) {
+    auto one_way = [](const std::vector<vec2>& A, const std::vector<vec2>& B) {
+        double s = 0;
+        for (const vec2& a : A) {
+            double m = std::numeric_limits<double>::infinity();
+            for (const vec2& b : B) m = std::min(m, std::hypot(a.x - b.x, a.y - b.y));
+            s += m;
+        }
+        return s / static_cast<double>(A.size());
+    };
+    return std::max(one_way(U, V), one_way(V, U));
+}
+
+inline std::vector<vec2> random_points(std::uint64_t seed, std::size_t n, double scale) {
+    counter_rng r(seed);
+    std::vector<vec2> p;
+    for (std::size_t i = 0; i < n; ++i) p.emplace_back(r.uniform(0, scale), r.uniform(0, scale));
+    return p;
+}
+
+inline std::vector<polygon_with_holes> cover_of(const placed& p) {
+    std::vector<polygon_with_holes> out;
+    for (const ring2& r : p.covering) out.push_back({r, {}});
+    return out;
+}
+
+}  // namespace synth_test
+
+using namespace synth_test;
+
+TEST_CASE("filigree elements: skeletons, widths and covering regions from the bundled SVGs", "[filigree][element]") {
+    for (const std::string& name : bundled()) {
+        INFO(name);
+        const element e = load(name, 20, 0.8);
+        REQUIRE(e.vertices.size() >= 10);
+        REQUIRE(e.edges.size() >= e.vertices.size() - 2);
+        box2 b;
+        for (const vec2& v : e.vertices) b.extend(v);
+        CHECK(glm::length(b.hi - b.lo) == Approx(20).epsilon(1e-9));       // size = bbox diagonal (§4.1)
+        CHECK(glm::length(0.5 * (b.lo + b.hi)) < 1e-9);                    // reference point at the bbox centre
+        for (double w : e.widths) CHECK(w == 0.8);
+        for (const skeleton_edge& ed : e.edges) CHECK(glm::distance(e.vertices[ed[0]], e.vertices[ed[1]]) <= std::max(1.6, 0.5) + 1e-9);
+        // Every vertex lies in the covering region (the hull of the strips).
+        placed p = place(e, instance{0, {0, 0}, 0, 1, e.vertices});
+        for (const vec2& v : e.vertices) CHECK(p.covers(v));
+        CHECK(e.covering_area > 0);
+    }
+}
+
+TEST_CASE("filigree elements: filled strips become their medial axis with the local width", "[filigree][element]") {
+    // A filled rectangle 30 x 2: its medial axis is the centre line with width 2 (ends pruned).
+    io::svg_document doc;
+    io::svg_shape s;
+    s.subpaths = {{{0, 0}, {30, 0}, {30, 2}, {0, 2}}};
+    s.closed = {true};
+    doc.shapes.push_back(s);
+    element_options o;
+    o.size_mm = 30;
+    o.prune = 1.0;
+    const element e = element_from_svg(doc, o);
+    REQUIRE_FALSE(e.vertices.empty());
+    double ymin = 1e9, ymax = -1e9;
+    for (const vec2& v : e.vertices) ymin = std::min(ymin, v.y), ymax = std::max(ymax, v.y);
+    CHECK(ymax - ymin < 1e-6);  // one straight centre line
+    std::vector<double> w = e.widths;
+    std::sort(w.begin(), w.end());
+    // The axis runs from x = 1 to x = 29 (the pruned end spurs stop one half-width from the ends):
+    // 28 units scaled to the 30 mm size, so the width 2 becomes 2 * 30 / 28 mm.
+    CHECK(e.length() == Approx(30.0).epsilon(1e-6));
+    CHECK(w[w.size() / 2] == Approx(2.0 * 30.0 / 28.0).epsilon(1e-6));
+}
+
+TEST_CASE("filigree elements: bad input is refused with a message", "[filigree][element]") {
+    io::svg_document empty;
+    CHECK_THROWS_WITH(element_from_svg(empty), Catch::Contains("no stroked path or filled shape"));
+    io::svg_document unstroked;
+    io::svg_shape s;
+    s.fill = "none";
+    s.subpaths = {{{0, 0}, {1, 1}}};
+    s.closed = {false};
+    unstroked.shapes.push_back(s);
+    CHECK_THROWS_WITH(element_from_svg(unstroked), Catch::Contains("no stroked path or filled shape"));
+    element_options bad;
+    bad.width_mm = -1;
+    CHECK_THROWS_AS(element_from_svg(io::read_svg(data / "filigree/spiral.svg", 0.01), bad), invalid_input);
+    bad.width_mm = 0;
+    bad.size_mm = std::numeric_limits<double>::quiet_NaN();
+    CHECK_THROWS_AS(element_from_svg(io::read_svg(data / "filigree/spiral.svg", 0.01), bad), invalid_input);
+}
+
+TEST_CASE("dist_MH: symmetric, zero on identical sets, equal to a brute-force evaluation", "[filigree][matching]") {
+    for (std::size_t n : {1u, 7u, 60u, 300u}) {  // below and above the k-d tree threshold
+        const auto U = random_points(n, n, 10.0), V = random_points(n + 1000, n + 3, 10.0);
+        CHECK(dist_mh(U, V) == dist_mh(V, U));
+        CHECK(dist_mh(U, U) == 0.0);
+        CHECK(dist_mh(U, V) == Approx(brute_mh(U, V)).epsilon(1e-12));
+    }
+    CHECK_THROWS_AS(dist_mh(std::vector<vec2>{}, std::vector<vec2>{{0, 0}}), invalid_input);
+}
+
+TEST_CASE("PME: a pair without overlap is infinite, an overlapping pair finite", "[filigree][matching]") {
+    const element e = load("spiral");
+    const std::vector<element> cls{e};
+    const auto dom = planar_domain::rectangle(200, 200);
+    pattern_state s(cls, {instance{0, {40, 40}, 0, 1, e.vertices}, instance{0, {140, 140}, 0, 1, e.vertices}}, constant_field{}, dom, 0.0);
+    CHECK(std::isinf(pair_distance(s.geometry()[0], s.geometry()[1])));
+    CHECK_FALSE(overlapping(s.geometry()[0], s.geometry()[1]));
+    pattern_state t(cls, {instance{0, {40, 40}, 0, 1, e.vertices}, instance{0, {50, 40}, 0.3, 1, e.vertices}}, constant_field{}, dom, 0.0);
+    const double q = pair_distance(t.geometry()[0], t.geometry()[1]);
+    CHECK(std::isfinite(q));
+    CHECK(q > 0);
+    CHECK(q == pair_distance(t.geometry()[1], t.geometry()[0]));
+    CHECK(t.pattern_energy() == q);  // one connected pair, no boundary term
+}
+
+TEST_CASE("initialization: every accepted element meets the three overlap rules (recomputed with Clipper)", "[filigree][init]") {
+    const element e = load("s_curl");
+    const std::vector<element> cls{e};
+    const std::vector<double> w{1.0};
+    const auto dom = planar_domain::rectangle(90, 70);
+    initialization_options o;
+    o.seed = 11;
+    const auto r = initialize(std::span<const element>(cls), w, dom, constant_field{}, o);
+    REQUIRE(r.instances.size() >= 10);
+    std::vector<placed> geo;
+    for (const instance& in : r.instances) geo.push_back(place(e, in));
+    for (std::size_t k = 1; k < geo.size(); ++k) {
+        INFO("instance " << k);
+        const auto S = cover_of(geo[k]);
+        const double aS = area(polygon_union(S, {}));
+        std::vector<polygon_with_holes> before;
+        double max_single = 0;
+        for (std::size_t j = 0; j < k; ++j) {
+            const auto Ej = cover_of(geo[j]);
+            max_single = std::max(max_single, area(polygon_intersection(S, Ej)) / aS);
+            before.insert(before.end(), Ej.begin(), Ej.end());
+        }
+        const double with_union = area(polygon_intersection(S, polygon_union(before, {}))) / aS;
+        // Same-class penalty 1.5 makes the accepted overlaps stricter than the paper's bounds.
+        CHECK(with_union <= 0.60 / 1.5 + 1e-9);
+        CHECK(max_single <= 0.30 / 1.5 + 1e-9);
+        CHECK(max_single >= 0.10 - 1e-9);
+        CHECK(dom.contains(r.instances[k].position));
+    }
+    CHECK(r.covered_fraction > 0.6);
+}
+
+TEST_CASE("initialization: class proportions follow the weights", "[filigree][init]") {
+    const std::vector<element> cls{load("spiral", 16), load("leaf", 16)};
+    const auto dom = planar_domain::rectangle(140, 120);
+    for (const std::vector<double>& w : {std::vector<double>{1, 1}, std::vector<double>{3, 1}, std::vector<double>{1, 0}}) {
+        initialization_options o;
+        o.seed = 5;
+        const auto r = initialize(std::span<const element>(cls), w, dom, constant_field{}, o);
+        std::size_t n0 = 0;
+        for (const instance& in : r.instances) n0 += in.cls == 0;
+        const double share = static_cast<double>(n0) / static_cast<double>(r.instances.size());
+        INFO("weights " << w[0] << ":" << w[1] << ", " << r.instances.size() << " instances, class 0 share " << share);
+        CHECK(std::abs(share - w[0] / (w[0] + w[1])) <= 0.1);  // tolerance: classes saturate unevenly near the end
+    }
+}
+
+TEST_CASE("initialization: an element larger than the domain, bad weights", "[filigree][init]") {
+    const std::vector<element> cls{load("spiral", 200)};
+    const auto dom = planar_domain::rectangle(10, 10);
+    const std::vector<double> w{1.0};
+    CHECK_THROWS_AS(initialize(std::span<const element>(cls), w, dom, constant_field{}), no_solution);
+    const std::vector<double> zero{0.0};
+    CHECK_THROWS_AS(initialize(std::span<const element>(cls), zero, dom, constant_field{}), invalid_input);
+    CHECK_THROWS_AS(planar_domain::rectangle(0, 10), invalid_input);
+}
+
+TEST_CASE("placement and boosting lower the PME on every bundled element; same result for 1 and 2 threads", "[filigree][placement]") {
+    const auto dom = planar_domain::rectangle(90, 70);
+    for (const std::string& name : bundled()) {
+        INFO(name);
+        const std::vector<element> cls{load(name)};
+        const std::vector<double> w{1.0};
+        initialization_options io;
+        io.seed = 3;
+        const auto init = initialize(std::span<const element>(cls), w, dom, constant_field{}, io);
+        std::vector<std::vector<instance>> results;
+        for (unsigned threads : {1u, 2u}) {
+            set_num_threads(threads);
+            pattern_state s(cls, init.instances, constant_field{}, dom);
+            const double e0 = s.pattern_energy();
+            connection_database D;
+            const auto pr = place_optimize(s, D);
+            const double e1 = s.pattern_energy();
+            CHECK(e1 <= e0);
+            CHECK(D.size() > s.size());
+            for (double e : pr.energy) CHECK(e <= e0);
+            const auto br = boost_placement(s, filter_candidates(D, 0.05));
+            const double e2 = s.pattern_energy();
+            CHECK(e2 <= e1);
+            WARN(name << ": PME init " << e0 << ", after placement " << e1 << " (ratio " << e1 / e0 << "), after boosting " << e2 << ", "
+                      << br.boosted << " boosted");
+            results.push_back(s.instances());
+        }
+        set_num_threads(0);
+        REQUIRE(results[0].size() == results[1].size());
+        for (std::size_t i = 0; i < results[0].size(); ++i) {
+            CHECK(results[0][i].position == results[1][i].position);
+            CHECK(results[0][i].shape == results[1][i].shape);
+        }
+    }
+}
+
+TEST_CASE("filter_candidates keeps the best sigma_f of the database", "[filigree][boosting]") {
+    connection_database d;
+    for (int i = 0; i < 100; ++i) d.push_back({0, 0, {static_cast<double>(i), 0}, static_cast<double>((i * 37) % 100)});
+    const auto f = filter_candidates(d, 0.05);
+    REQUIRE(f.size() == 5);
+    for (const auto& r : f) CHECK(r.quality < 5);
+    CHECK_THROWS_AS(filter_candidates(d, 0.0), invalid_input);
+}
