@@ -4,6 +4,7 @@
 /// marching cubes, mesh topology, planar curves with a band map, triangulation, extrusion and the
 /// medial axis of polygons with holes, convex hulls and polyline simplification, shaded previews
 /// of meshes (render.hpp) and coverage images of polygons (coverage_image.hpp).
+#include "fabsynth/geometry/box_pairs.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/coverage_image.hpp"
 #include "fabsynth/geometry/curve.hpp"

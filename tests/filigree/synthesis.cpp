@@ -13,6 +13,7 @@
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/rng.hpp"
 #include "fabsynth/filigree/boosting.hpp"
+#include "fabsynth/filigree/connection.hpp"
 #include "fabsynth/filigree/element.hpp"
 #include "fabsynth/filigree/initialization.hpp"
 #include "fabsynth/filigree/matching.hpp"
@@ -254,4 +255,27 @@ TEST_CASE("filter_candidates keeps the best sigma_f of the database", "[filigree
     REQUIRE(f.size() == 5);
     for (const auto& r : f) CHECK(r.quality < 5);
     CHECK_THROWS_AS(filter_candidates(d, 0.0), invalid_input);
+}
+
+TEST_CASE("smooth connection: an instance near the domain boundary is deformed into tangent contact with it", "[filigree][connection]") {
+    // One s_curl lying 0.5 mm inside the top edge (y = 0) of the domain: the narrow-gap case of
+    // Fig. 6 against the boundary curve (§7.2).
+    const element e = load("s_curl", 20, 0.8);
+    const std::vector<element> cls{e};
+    const auto dom = planar_domain::rectangle(60, 40);
+    double ymin = 1e9;
+    for (const vec2& v : e.vertices) ymin = std::min(ymin, v.y);
+    pattern_state s(cls, {instance{0, {30, 0.5 - ymin}, 0, 1, e.vertices}}, constant_field{}, dom);
+    const auto gap = [](const placed& g) {
+        double m = 1e9;
+        for (const vec2& v : g.vertices) m = std::min(m, v.y);
+        return m;
+    };
+    REQUIRE(gap(s.geometry()[0]) == Approx(0.5).margin(1e-9));
+    const auto hook = make_smooth_connection(0.15);
+    const auto out = hook(s, 0);
+    REQUIRE(out.has_value());
+    const placed g = place(e, *out);
+    CHECK(gap(g) < 1e-6);                                              // touches the boundary
+    CHECK(s.local_energy(g, {}) <= s.local_energy(s.geometry()[0], {}));  // and its Theta term does not rise
 }

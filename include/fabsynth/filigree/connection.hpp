@@ -14,7 +14,8 @@
 /// (the paper's "intersections with other neighbouring elements that do not need to be changed"),
 /// at most `max_fixed` of them (the FFD has 16 control points). The first deformation whose
 /// distortion is below sigma_d (Table 1: 0.13-0.17), that keeps every neighbour of i and does not
-/// raise i's matching energy, is returned. Contact thresholds scale with the strip width w: two
+/// raise i's matching energy, is returned; without one, a tangent contact with the domain boundary
+/// is tried the same way (boundary_contact, §7.2). Contact thresholds scale with the strip width w: two
 /// crossings closer than 3 w, a gap narrower than 1.5 w. The energy condition is added here (the
 /// paper accepts on distortion alone): placement keeps the pattern matching energy from rising, so a
 /// deformation that raised it would only be undone.
@@ -23,6 +24,8 @@
 #include <limits>
 #include <optional>
 #include <vector>
+
+#include "fabsynth/core/box.hpp"
 
 #include "fabsynth/filigree/deformation.hpp"
 #include "fabsynth/filigree/placement.hpp"
@@ -44,6 +47,43 @@ namespace detail::connection {
 
 }  // namespace detail::connection
 
+/// Boundary-aware synthesis (§7.2: "encourage pattern elements next to the domain boundary to have
+/// tangential contact with boundary curves ... by applying ... limited deformation"): instance i
+/// deformed into tangent contact with the domain boundary, its contacts with its neighbours fixed;
+/// returned if the distortion is below sigma_d, every neighbour is kept and the local energy (whose
+/// Theta term scores the alignment with the boundary) is at most `before`.
+[[nodiscard]] inline std::optional<instance> boundary_contact(const pattern_state& s, std::size_t i, std::span<const std::uint32_t> nbrs,
+                                                             const contact_options& copt, double sigma_d, double before) {
+    const instance& cur = s.instances()[i];
+    const element& e = s.classes()[cur.cls];
+    const placed& g = s.geometry()[i];
+    const box2& b = g.box;
+    const box2& d = s.domain().bounds;
+    const double reach = copt.max_gap + copt.max_intersection_gap;
+    if (b.lo.x - d.lo.x > reach && b.lo.y - d.lo.y > reach && d.hi.x - b.hi.x > reach && d.hi.y - b.hi.y > reach && s.domain().region.size() == 1 &&
+        s.domain().region[0].holes.empty())
+        return std::nullopt;  // far from the outer boundary of a domain without holes
+    std::vector<std::uint32_t> fixed;
+    for (const std::uint32_t k : nbrs) {
+        if (fixed.size() >= 12) break;
+        const auto [v, dist] = detail::connection::nearest_vertex(g.vertices, s.geometry()[k].vertices);
+        if (dist <= e.median_width()) fixed.push_back(v);
+    }
+    std::optional<ffd_result> r;
+    try {
+        r = smooth_connection(g.vertices, e.edges, s.boundary_positions(), s.boundary_edges(), fixed, copt, {}, sigma_d);
+    } catch (const solver_error&) {
+        return std::nullopt;
+    }
+    if (!r) return std::nullopt;
+    instance out = cur;
+    for (std::size_t v = 0; v < out.shape.size(); ++v) out.shape[v] = to_local(cur, r->positions[v]);
+    const placed ng = place(e, out);
+    const std::vector<std::uint32_t> now = s.neighbours_of(ng, i);
+    if (!std::includes(now.begin(), now.end(), nbrs.begin(), nbrs.end()) || s.local_energy(ng, now) > before) return std::nullopt;
+    return out;
+}
+
 /// The smooth-connection hook of place_optimize (see the file comment).
 [[nodiscard]] inline smooth_connection_fn make_smooth_connection(double sigma_d, std::size_t max_fixed = 12) {
     require_positive(sigma_d, "smooth connection: sigma_d");
@@ -53,7 +93,6 @@ namespace detail::connection {
         const element& e = s.classes()[cur.cls];
         const placed& g = s.geometry()[i];
         const std::vector<std::uint32_t> nbrs = s.neighbours_of(g, i);
-        if (nbrs.empty()) return std::nullopt;
         const double w = e.median_width();
         contact_options copt;
         copt.max_intersection_gap = 3 * w;
@@ -82,7 +121,7 @@ namespace detail::connection {
             if (s.local_energy(ng, now) > before) continue;
             return out;
         }
-        return std::nullopt;
+        return boundary_contact(s, i, nbrs, copt, sigma_d, before);
     };
 }
 

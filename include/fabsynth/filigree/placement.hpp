@@ -23,6 +23,7 @@
 /// (matching.hpp, overlapping(): dist(P_i, P_j) of eq. 2 is finite). The local energy of i is the
 /// sum of eq. 2 over its neighbours plus gamma_boundary times the boundary term (Theta, §7.2).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -63,6 +64,15 @@ public:
         for (const element& e : classes) w = std::max(w, e.median_width());
         band_ = 2 * w;
         boundary_ = domain.boundary_samples(std::max(w, 1e-3));
+        for (const polygon_with_holes& p : domain.region)  // every ring as a closed polyline
+            for (std::size_t r = 0; r <= p.holes.size(); ++r) {
+                const ring2& ring = r == 0 ? p.outer : p.holes[r - 1];
+                const auto first = static_cast<std::uint32_t>(boundary_positions_.size());
+                for (std::size_t k = 0; k < ring.size(); ++k) {
+                    boundary_positions_.push_back(ring[k]);
+                    boundary_edges_.push_back({first + static_cast<std::uint32_t>(k), first + static_cast<std::uint32_t>((k + 1) % ring.size())});
+                }
+            }
         set_instances(std::move(instances));
     }
 
@@ -72,6 +82,9 @@ public:
     [[nodiscard]] const any_field& field() const noexcept { return field_; }
     [[nodiscard]] const planar_domain& domain() const noexcept { return *domain_; }
     [[nodiscard]] std::size_t size() const noexcept { return instances_.size(); }
+    /// The domain boundary as a skeleton: ring vertices (mm) and the edges closing every ring.
+    [[nodiscard]] std::span<const vec2> boundary_positions() const noexcept { return boundary_positions_; }
+    [[nodiscard]] std::span<const std::array<std::uint32_t, 2>> boundary_edges() const noexcept { return boundary_edges_; }
 
     void set_instances(std::vector<instance> in) {
         instances_ = std::move(in);
@@ -142,6 +155,8 @@ private:
     double gamma_boundary_;
     double band_ = 0;
     std::vector<vec2> boundary_;
+    std::vector<vec2> boundary_positions_;
+    std::vector<std::array<std::uint32_t, 2>> boundary_edges_;
 };
 
 /// Smooth connection hook (§4.3.2): given the state and an instance index, returns the deformed
