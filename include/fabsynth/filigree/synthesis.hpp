@@ -150,8 +150,8 @@ inline void optimize_pattern(pattern_state& s, const synthesis_options& opt, syn
     }
 }
 
-/// Initialization plus optimize_pattern (see the file comment). `classes` must outlive nothing
-/// beyond the call; the result holds copies.
+/// Initialization plus optimize_pattern (see the file comment). `classes` is only read during the
+/// call; the result holds its own instances and skeletons.
 template <control_field F>
 [[nodiscard]] synthesis_result synthesize_pattern(std::span<const element> classes, std::span<const double> weights, const planar_domain& domain,
                                                   const F& field, const synthesis_options& opt = {}) {
