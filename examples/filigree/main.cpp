@@ -242,6 +242,7 @@ int main(int argc, char** argv) {
             {"pme_per_instance_per_round", syn.energy_per_round},
             {"smooth_connections", syn.smooth_connections},
             {"boosted_moves", syn.boosted},
+            {"boosting_reconnections", syn.reconnected},
             {"duplicates_removed", syn.duplicates_removed},
             {"connection_database", syn.database_size},
             {"topology_cut", {{"protrusions_trimmed", syn.cut.protrusions_trimmed}, {"branches_cut", syn.cut.branches_cut},

@@ -279,3 +279,86 @@ TEST_CASE("smooth connection: an instance near the domain boundary is deformed i
     CHECK(gap(g) < 1e-6);                                              // touches the boundary
     CHECK(s.local_energy(g, {}) <= s.local_energy(s.geometry()[0], {}));  // and its Theta term does not rise
 }
+
+namespace synth_test {
+
+// Overlap of two placed instances' covering regions by Clipper (the oracle: a general boolean,
+// not the convex clipping of pattern.hpp), as a fraction of a's covering area.
+inline double overlap_fraction_oracle(const placed& a, const placed& b) {
+    std::vector<polygon_with_holes> pa, pb;
+    for (const ring2& r : a.covering) pa.push_back({r, {}});
+    for (const ring2& r : b.covering) pb.push_back({r, {}});
+    return area(polygon_intersection(polygon_union(pa, {}), polygon_union(pb, {}))) / area(polygon_union(pa, {}));
+}
+
+TEST_CASE("placement and boosting keep the overlap limit of initialization", "[filigree][placement]") {
+    const auto dom = planar_domain::rectangle(90, 70);
+    for (const std::string& name : {std::string("spiral"), std::string("c_scroll")}) {
+        INFO(name);
+        const std::vector<element> cls{load(name)};
+        const std::vector<double> w{1.0};
+        initialization_options io;
+        io.seed = 5;
+        const auto init = initialize(std::span<const element>(cls), w, dom, constant_field{}, io);
+        pattern_state s(cls, init.instances, constant_field{}, dom);
+        auto worst_pair = [&] {
+            double worst = 0;
+            for (std::size_t i = 0; i < s.size(); ++i)
+                for (std::size_t j = 0; j < s.size(); ++j)
+                    if (i != j && boxes_meet(s.geometry()[i], s.geometry()[j]))
+                        worst = std::max(worst, overlap_fraction_oracle(s.geometry()[i], s.geometry()[j]));
+            return worst;
+        };
+        const double limit = io.max_single_overlap / io.same_class_penalty;
+        REQUIRE(worst_pair() <= limit + 1e-3);  // initialization's own rule, recounted
+        connection_database D;
+        (void)place_optimize(s, D);
+        CHECK(worst_pair() <= limit + 1e-3);
+        (void)boost_placement(s, filter_candidates(D, 0.05));
+        CHECK(worst_pair() <= limit + 1e-3);
+        WARN(name << ": worst same-class overlap after placement and boosting " << worst_pair() << " (limit " << limit << ")");
+    }
+}
+
+TEST_CASE("reconnection by deformation (4.4): an instance that just misses its neighbour is bent into contact", "[filigree][boosting]") {
+    const element e = load("c_scroll", 20, 0.8);
+    const std::vector<element> cls{e};
+    const auto dom = planar_domain::rectangle(200, 200);
+    const instance a{0, {60, 100}, 0, 1, e.vertices};
+    // the largest shift along x at which b still reaches into a's covering region, by bisection
+    auto reaches = [&](double dx) {
+        const instance b{0, {60 + dx, 100}, 0, 1, e.vertices};
+        return overlapping(place(e, a), place(e, b));
+    };
+    double lo = 0, hi = 2 * e.size;
+    REQUIRE(reaches(lo));
+    REQUIRE_FALSE(reaches(hi));
+    for (int k = 0; k < 60; ++k) (reaches(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
+    const instance b{0, {60 + hi + 0.3, 100}, 0, 1, e.vertices};  // 0.3 mm beyond the last contact
+    pattern_state s(cls, {a, b}, constant_field{}, dom, 0.0);
+    REQUIRE(s.neighbours_of(s.geometry()[1], 1).empty());
+    const double w = e.median_width();
+    const auto out = reconnect(s, 1, b, 0, {}, 3 * w, 0.15);
+    REQUIRE(out.has_value());
+    const placed g = place(e, *out);
+    CHECK(overlapping(g, s.geometry()[0]));
+    CHECK(out->position == b.position);  // a deformation, not a move
+    CHECK(out->shape != b.shape);
+    // the distortion bound of §4.3.2, recomputed on the vertices: the standard deviation of d'/d
+    std::vector<double> ratios;
+    for (std::size_t p = 0; p < e.vertices.size(); ++p)
+        for (std::size_t q = p + 1; q < e.vertices.size(); ++q) {
+            const double d0 = glm::distance(e.vertices[p], e.vertices[q]);
+            if (d0 > 1e-9) ratios.push_back(glm::distance(out->shape[p], out->shape[q]) / d0);
+        }
+    double mean = 0, var = 0;
+    for (double r : ratios) mean += r;
+    mean /= static_cast<double>(ratios.size());
+    for (double r : ratios) var += (r - mean) * (r - mean);
+    CHECK(std::sqrt(var / static_cast<double>(ratios.size())) < 0.15 * 1.5);  // vertex pairs approximate the dense samples
+    // a gap wider than allowed is not bridged, nor one with a bad bound
+    CHECK_FALSE(reconnect(s, 1, b, 0, {}, 1e-3, 0.15).has_value());
+    CHECK_THROWS_AS(reconnect(s, 1, b, 0, {}, 0.0, 0.15), invalid_input);
+}
+
+}  // namespace synth_test

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "fabsynth/core/rng.hpp"
+#include "fabsynth/geometry/clip.hpp"
+#include "fabsynth/geometry/hull_simplify.hpp"
 #include "fabsynth/geometry/polygon.hpp"
 #include "fabsynth/io/svg.hpp"
 
@@ -212,4 +214,38 @@ TEST_CASE("polygon: group_rings nests islands inside holes", "[geometry][polygon
     REQUIRE(polys[2].holes.size() == 1);
     CHECK(fabsynth::signed_area(polys[2].holes[0]) == -16);
     CHECK_THROWS_AS(fabsynth::group_rings({ring2{{0, 0}, {std::nan(""), 0}, {1, 1}}}), fabsynth::invalid_input);
+}
+
+// convex_intersection_area: closed forms for squares and a triangle, and Clipper's boolean (a
+// second library, integer arithmetic) on random convex polygons.
+TEST_CASE("convex_intersection_area: closed forms and Clipper's boolean", "[geometry][polygon]") {
+    const ring2 sq{{0, 0}, {2, 0}, {2, 2}, {0, 2}};
+    auto moved = [](const ring2& r, vec2 d) {
+        ring2 o = r;
+        for (vec2& p : o) p += d;
+        return o;
+    };
+    CHECK(fabsynth::convex_intersection_area(sq, sq) == Approx(4.0));
+    CHECK(fabsynth::convex_intersection_area(sq, moved(sq, {0.5, 1.5})) == Approx(1.5 * 0.5));
+    CHECK(fabsynth::convex_intersection_area(sq, moved(sq, {3, 0})) == 0.0);
+    CHECK(fabsynth::convex_intersection_area(sq, moved(sq, {2, 0})) == Approx(0.0).margin(1e-12));  // edge contact
+    const ring2 tri{{0, 0}, {2, 0}, {0, 2}};  // the square's lower-left half
+    CHECK(fabsynth::convex_intersection_area(sq, tri) == Approx(2.0));
+    CHECK(fabsynth::convex_intersection_area(tri, sq) == Approx(2.0));
+    CHECK(fabsynth::convex_intersection_area(sq, ring2{{0, 0}, {1, 1}}) == 0.0);  // degenerate ring
+
+    fabsynth::counter_rng rng(11);
+    auto random_convex = [&](vec2 c, double r) {
+        std::vector<vec2> pts;
+        for (int k = 0; k < 12; ++k) pts.push_back(c + vec2(rng.uniform(-r, r), rng.uniform(-r, r)));
+        return fabsynth::convex_hull(pts);
+    };
+    for (int t = 0; t < 200; ++t) {
+        const ring2 a = random_convex({0, 0}, 5), b = random_convex({rng.uniform(-6.0, 6.0), rng.uniform(-6.0, 6.0)}, 5);
+        const double oracle =
+            fabsynth::area(fabsynth::polygon_intersection({fabsynth::polygon_with_holes{a, {}}}, {fabsynth::polygon_with_holes{b, {}}}));
+        INFO("trial " << t);
+        CHECK(fabsynth::convex_intersection_area(a, b) == Approx(oracle).margin(1e-4));
+        CHECK(fabsynth::convex_intersection_area(b, a) == Approx(oracle).margin(1e-4));
+    }
 }

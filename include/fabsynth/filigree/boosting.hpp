@@ -2,11 +2,15 @@
 #pragma once
 /// @file boosting.hpp  Boosting (filigree-synthesis.md §4.4, Algorithm 2): relative positions of
 /// well-matched pairs found by the placement search are recorded (the connection database D,
-/// placement.hpp); the best sigma_f of them (Table 1: 4.5-5%) become the filtered database D'. Each
-/// instance then tries, for every neighbour j, the position that puts j where the most similar
-/// good pair of D' (same classes, nearest relative position) had it (a boosting vector), plus the
-/// average of those positions, and keeps the one with the lowest energy (learning phase). Old
-/// neighbourhoods need not be kept, but connectivity must survive.
+/// placement.hpp); the best sigma_f of them (Table 1: 4.5-5%) become the filtered database D'.
+/// An instance with a pair worse than every pair of D' (the paper's "pair of neighboring elements
+/// that cannot be put in a good connection") tries, for every neighbour j, the position that puts
+/// j where the most similar good pair of D' (same classes, nearest relative position) had it (a
+/// boosting vector), plus the average of those positions, and takes the one with the lowest
+/// energy (learning phase) even when that is above its current energy: boosting is a jump to "a
+/// new local initialization" from which placement can leave a poor local minimum. Each iteration
+/// is therefore followed by a short placement optimization (`relax`), and kept only if the PME
+/// then is below the PME before the iteration; otherwise it is undone and boosting ends.
 ///
 /// Usage:
 ///   auto filtered = fabsynth::filigree::filter_candidates(D, 0.05);
@@ -15,19 +19,25 @@
 /// Energy of a candidate: the mean of eq. 2 over its neighbours times max(|N_i|, |N'_i|), plus
 /// Theta. The paper compares PME values directly; a plain sum would favour candidates that shed
 /// neighbours (fewer terms), which the paper's connectivity goal rules out, so the sum is taken
-/// as if the instance had kept its neighbour count. A candidate is refused when it leaves the
-/// instance without neighbours or leaves a former neighbour without any other neighbour (the
-/// "loss of connection" of §4.4; reconnection by deformation is left to the smooth-connection
-/// step of the next placement round, which runs the same deformation of §4.3.2).
+/// as if the instance had kept its neighbour count. Connections a candidate loses (the "loss of
+/// connection" of §4.4) are restored by deformation where possible: the moved instance is deformed
+/// into tangent contact with each former neighbour it left (connection.hpp, reconnect(): the
+/// narrow-gap case of Fig. 6 for gaps up to reconnect_gap strip widths, distortion below sigma_d,
+/// its other contacts fixed); the reconnected instance competes with the plain move as a candidate
+/// of its own. A candidate is refused when a former neighbour is still left without any
+/// neighbour, or when it has none itself. Candidates also keep the spacing of initialization
+/// (pattern_state::spacing_kept).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <span>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/parallel.hpp"
+#include "fabsynth/filigree/connection.hpp"
 #include "fabsynth/filigree/placement.hpp"
 
 namespace fabsynth::filigree {
@@ -48,11 +58,17 @@ namespace fabsynth::filigree {
 struct boosting_options {
     int max_iterations = 2;
     std::uint64_t seed = 1;
+    placement_options relax{.max_iterations = 3};  ///< the placement that follows each iteration (its seed is derived from `seed`)
+    bool reconnect = true;       ///< reconnection by deformation (§4.4)
+    double sigma_d = 0.15;       ///< distortion bound of a reconnection (Table 1: 0.13-0.17)
+    double reconnect_gap = 3.0;  ///< largest gap bridged by a reconnection, in strip widths of the moved element
 };
 
 struct boosting_report {
     int iterations = 0;
     std::size_t boosted = 0;      ///< instance moves adopted
+    std::size_t reconnected = 0;  ///< of which kept a neighbour by a deformation
+    std::size_t undone = 0;       ///< iterations undone because the PME did not fall
     double translation = 0.0;     ///< mm
     std::vector<double> energy;   ///< PME after each iteration
 };
@@ -79,13 +95,13 @@ namespace detail::boosting {
     return sum / static_cast<double>(nbrs.size()) * static_cast<double>(std::max(old_count, nbrs.size())) + s.theta(g);
 }
 
-// A former neighbour j that i leaves must keep another neighbour.
-[[nodiscard]] inline bool keeps_others_connected(const std::vector<std::vector<std::uint32_t>>& adj, std::size_t i,
-                                                 std::span<const std::uint32_t> before, std::span<const std::uint32_t> after) {
-    (void)i;
+// The former neighbours that i leaves without any other neighbour (i was their only one).
+[[nodiscard]] inline std::vector<std::uint32_t> stranded(const std::vector<std::vector<std::uint32_t>>& adj, std::span<const std::uint32_t> before,
+                                                         std::span<const std::uint32_t> after) {
+    std::vector<std::uint32_t> out;
     for (const std::uint32_t j : before)
-        if (!std::binary_search(after.begin(), after.end(), j) && adj[j].size() <= 1) return false;
-    return true;
+        if (!std::binary_search(after.begin(), after.end(), j) && adj[j].size() <= 1) out.push_back(j);
+    return out;
 }
 
 // Re-check when applying a move: two instances of one set may both leave the same neighbour.
@@ -101,16 +117,19 @@ namespace detail::boosting {
 
 struct boost_move {
     instance best;
-    bool moved = false;
+    bool moved = false, reconnected = false;
     double translation = 0;
 };
 
 [[nodiscard]] inline boost_move learn(const pattern_state& s, const connection_database& filtered, const std::vector<std::vector<std::uint32_t>>& adj,
-                                      std::size_t i) {
+                                      std::size_t i, double good_enough, const boosting_options& opt) {
     const instance& cur = s.instances()[i];
-    boost_move r{cur, false, 0};
+    boost_move r{cur, false, false, 0};
     const std::span<const std::uint32_t> nbrs = adj[i];
-    double best = candidate_energy(s, s.geometry()[i], nbrs, nbrs.size());
+    double worst = 0;
+    for (const std::uint32_t j : nbrs) worst = std::max(worst, pair_distance(s.geometry()[i], s.geometry()[j]));
+    if (worst <= good_enough) return r;  // every pair of i is as good as the pairs of D'
+    double best = std::numeric_limits<double>::infinity();
     std::vector<vec2> cands;
     for (const std::uint32_t j : nbrs) {  // selection phase: one boosting vector per neighbour
         const instance& o = s.instances()[j];
@@ -125,14 +144,33 @@ struct boost_move {
         for (const vec2& c : cands) avg += c;
         cands.push_back(avg / static_cast<double>(cands.size()));
     }
-    for (const vec2& p : cands) {  // learning phase
-        if (!s.domain().contains(p) || glm::distance(p, cur.position) < 1e-9) continue;
-        const instance cand = s.moved(cur, p);
-        const placed g = place(s.classes()[cand.cls], cand);
-        const std::vector<std::uint32_t> now = s.neighbours_of(g, i);
-        if (!keeps_others_connected(adj, i, nbrs, now)) continue;
+    auto consider = [&](const instance& cand, const placed& g, const std::vector<std::uint32_t>& now, bool deformed) {
+        if (!stranded(adj, nbrs, now).empty() || !s.spacing_kept(i, cand, g, now)) return;
         const double e = candidate_energy(s, g, now, nbrs.size());
-        if (e < best) best = e, r.best = cand, r.moved = true, r.translation = glm::distance(p, cur.position);
+        if (e < best) best = e, r.best = cand, r.moved = true, r.reconnected = deformed, r.translation = glm::distance(cand.position, cur.position);
+    };
+    for (const vec2& p : cands) {  // learning phase: each boosting vector as it is, and reconnected
+        if (!s.domain().contains(p) || glm::distance(p, cur.position) < 1e-9) continue;
+        instance cand = s.moved(cur, p);
+        placed g = place(s.classes()[cand.cls], cand);
+        std::vector<std::uint32_t> now = s.neighbours_of(g, i);
+        if (!s.spacing_kept(i, cand, g, now)) continue;
+        consider(cand, g, now, false);
+        if (!opt.reconnect) continue;
+        std::vector<std::uint32_t> lost;
+        std::set_difference(nbrs.begin(), nbrs.end(), now.begin(), now.end(), std::back_inserter(lost));
+        bool deformed = false;
+        for (const std::uint32_t j : lost) {  // reconnection by deformation (§4.4), in neighbour order
+            if (std::binary_search(now.begin(), now.end(), j)) continue;  // an earlier deformation reached it
+            const double gap = opt.reconnect_gap * s.classes()[cand.cls].median_width();
+            std::optional<instance> fixed_up = reconnect(s, i, cand, j, now, gap, opt.sigma_d);
+            if (!fixed_up) continue;
+            cand = std::move(*fixed_up);
+            g = place(s.classes()[cand.cls], cand);
+            now = s.neighbours_of(g, i);
+            deformed = true;
+        }
+        if (deformed) consider(cand, g, now, true);
     }
     return r;
 }
@@ -140,38 +178,52 @@ struct boost_move {
 }  // namespace detail::boosting
 
 /// Algorithm 2 on `s` with the filtered database (see the file comment). Deterministic for any
-/// thread count (independent sets, moves applied in instance order after each set). The PME never
-/// rises: an iteration that would raise it is undone and ends boosting.
+/// thread count (independent sets, moves applied in instance order after each set; the relaxing
+/// placement is deterministic too). The PME never rises: an iteration whose moves and relaxation
+/// end above the PME it started from is undone and ends boosting.
 [[nodiscard]] inline boosting_report boost_placement(pattern_state& s, const connection_database& filtered, const boosting_options& opt = {}) {
     namespace db = detail::boosting;
     boosting_report rep;
     if (s.size() == 0 || filtered.empty()) return rep;
+    double good_enough = 0;  // the worst quality kept in D'
+    for (const connection_record& r : filtered) good_enough = std::max(good_enough, r.quality);
     double energy = s.pattern_energy();
     for (int it = 0; it < opt.max_iterations; ++it) {
         const std::vector<instance> before = s.instances();
-        std::size_t moved = 0;
+        std::size_t moved = 0, reconnected = 0;
         double translation = 0;
         const auto sets = detail::placement::independent_sets(s.connectivity());
         for (const auto& set : sets) {
             const auto adj = s.connectivity();  // moves of the previous set changed neighbourhoods
             std::vector<db::boost_move> res(set.size());
-            parallel_for(0, set.size(), [&](std::size_t k) { res[k] = db::learn(s, filtered, adj, set[k]); });
+            parallel_for(0, set.size(), [&](std::size_t k) { res[k] = db::learn(s, filtered, adj, set[k], good_enough, opt); });
             for (std::size_t k = 0; k < set.size(); ++k)
-                if (res[k].moved && db::still_connected_after(s, set[k], res[k].best))
+                if (res[k].moved && db::still_connected_after(s, set[k], res[k].best)) {
+                    reconnected += res[k].reconnected;
                     s.update(set[k], std::move(res[k].best)), ++moved, translation += res[k].translation;
+                }
         }
         ++rep.iterations;
+        if (moved == 0) {
+            rep.energy.push_back(energy);
+            break;
+        }
+        placement_options relax = opt.relax;
+        relax.seed = opt.seed ^ (0xbf58476d1ce4e5b9ULL * static_cast<std::uint64_t>(it + 1));
+        connection_database scratch;
+        translation += place_optimize(s, scratch, relax).translation;
         const double after = s.pattern_energy();
-        if (after > energy) {  // boosting never ends above its start (the learning phase scores locally)
+        if (!(after < energy)) {  // boosting never ends above its start
             s.set_instances(before);
+            ++rep.undone;
             rep.energy.push_back(energy);
             break;
         }
         energy = after;
         rep.boosted += moved;
+        rep.reconnected += reconnected;
         rep.translation += translation;
         rep.energy.push_back(energy);
-        if (moved == 0) break;
     }
     return rep;
 }

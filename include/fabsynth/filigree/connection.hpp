@@ -8,6 +8,7 @@
 /// Usage:
 ///   placement_options po;
 ///   po.smooth_connection = fabsynth::filigree::make_smooth_connection(0.15);
+///   auto fixed_up = fabsynth::filigree::reconnect(state, i, moved, j, keep, 2.4, 0.15);  // boosting, §4.4
 ///
 /// Per call (one instance i): neighbours j in id order; the fixed control points are, for every
 /// other neighbour k, the vertex of i nearest to k's skeleton when it is within one strip width
@@ -21,8 +22,10 @@
 /// deformation that raised it would only be undone.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "fabsynth/core/box.hpp"
@@ -45,6 +48,20 @@ namespace detail::connection {
     return best;
 }
 
+// The fixed control points of a deformation of i (§4.3.2: "intersection points with other
+// neighbouring elements that do not need to be changed"): per neighbour k in `keep` other than
+// `except`, the vertex of g nearest to k's skeleton when it is within `reach`; at most max_fixed.
+[[nodiscard]] inline std::vector<std::uint32_t> fixed_contacts(const pattern_state& s, const placed& g, std::span<const std::uint32_t> keep,
+                                                               std::size_t except, double reach, std::size_t max_fixed) {
+    std::vector<std::uint32_t> fixed;
+    for (const std::uint32_t k : keep) {
+        if (k == except || fixed.size() >= max_fixed) continue;
+        const auto [v, d] = nearest_vertex(g.vertices, s.geometry()[k].vertices);
+        if (d <= reach) fixed.push_back(v);
+    }
+    return fixed;
+}
+
 }  // namespace detail::connection
 
 /// Boundary-aware synthesis (§7.2: "encourage pattern elements next to the domain boundary to have
@@ -63,12 +80,7 @@ namespace detail::connection {
     if (b.lo.x - d.lo.x > reach && b.lo.y - d.lo.y > reach && d.hi.x - b.hi.x > reach && d.hi.y - b.hi.y > reach && s.domain().region.size() == 1 &&
         s.domain().region[0].holes.empty())
         return std::nullopt;  // far from the outer boundary of a domain without holes
-    std::vector<std::uint32_t> fixed;
-    for (const std::uint32_t k : nbrs) {
-        if (fixed.size() >= 12) break;
-        const auto [v, dist] = detail::connection::nearest_vertex(g.vertices, s.geometry()[k].vertices);
-        if (dist <= e.median_width()) fixed.push_back(v);
-    }
+    const std::vector<std::uint32_t> fixed = detail::connection::fixed_contacts(s, g, nbrs, SIZE_MAX, e.median_width(), 12);
     std::optional<ffd_result> r;
     try {
         r = smooth_connection(g.vertices, e.edges, s.boundary_positions(), s.boundary_edges(), fixed, copt, {}, sigma_d);
@@ -99,12 +111,7 @@ namespace detail::connection {
         copt.max_gap = 1.5 * w;
         const double before = s.local_energy(g, nbrs);
         for (const std::uint32_t j : nbrs) {
-            std::vector<std::uint32_t> fixed;
-            for (const std::uint32_t k : nbrs) {
-                if (k == j || fixed.size() >= max_fixed) continue;
-                const auto [v, d] = dc::nearest_vertex(g.vertices, s.geometry()[k].vertices);
-                if (d <= w) fixed.push_back(v);
-            }
+            const std::vector<std::uint32_t> fixed = dc::fixed_contacts(s, g, nbrs, j, w, max_fixed);
             const element& ej = s.classes()[s.instances()[j].cls];
             std::optional<ffd_result> r;
             try {
@@ -123,6 +130,41 @@ namespace detail::connection {
         }
         return boundary_contact(s, i, nbrs, copt, sigma_d, before);
     };
+}
+
+/// Reconnection by deformation (§4.4, learning phase: "we will enhance the connectivity by forcing
+/// some nearby pairs of elements to be connected to each other using non-rigid deformation"):
+/// instance i, about to be placed as `cand`, deformed (the narrow-gap case of Fig. 6, gaps up to
+/// `max_gap` mm) into tangent contact with instance j of the current state, its contacts with its
+/// neighbours `keep` (at cand) fixed. Returned if the distortion is below sigma_d and the deformed
+/// instance reaches into j's covering region (overlapping(), the pattern's connectivity) while
+/// keeping every instance of `keep` as a neighbour; nothing otherwise.
+[[nodiscard]] inline std::optional<instance> reconnect(const pattern_state& s, std::size_t i, const instance& cand, std::uint32_t j,
+                                                      std::span<const std::uint32_t> keep, double max_gap, double sigma_d) {
+    require_positive(sigma_d, "reconnect: sigma_d");
+    require_positive(max_gap, "reconnect: max_gap");
+    const element& e = s.classes()[cand.cls];
+    const placed g = place(e, cand);
+    const placed& gj = s.geometry()[j];
+    if (!g.box.inflated(max_gap).intersects(gj.box)) return std::nullopt;
+    const std::vector<std::uint32_t> fixed = detail::connection::fixed_contacts(s, g, keep, j, e.median_width(), 12);
+    contact_options copt;
+    copt.max_gap = max_gap;
+    copt.max_intersection_gap = 3 * e.median_width();
+    std::optional<ffd_result> r;
+    try {
+        r = smooth_connection(g.vertices, e.edges, gj.vertices, s.classes()[s.instances()[j].cls].edges, fixed, copt, {}, sigma_d);
+    } catch (const solver_error&) {  // constraints the 4 x 4 patch cannot meet
+        return std::nullopt;
+    }
+    if (!r) return std::nullopt;
+    instance out = cand;
+    for (std::size_t v = 0; v < out.shape.size(); ++v) out.shape[v] = to_local(cand, r->positions[v]);
+    const placed ng = place(e, out);
+    if (!overlapping(ng, gj)) return std::nullopt;
+    const std::vector<std::uint32_t> now = s.neighbours_of(ng, i);
+    if (!std::includes(now.begin(), now.end(), keep.begin(), keep.end())) return std::nullopt;
+    return out;
 }
 
 }  // namespace fabsynth::filigree

@@ -94,6 +94,16 @@ struct placed {
     return p;
 }
 
+/// Area (mm^2) of the overlap of the covering regions of a and b, summed over pairs of convex
+/// parts: exact for one-part regions, an upper bound when parts of one element overlap each other.
+[[nodiscard]] inline double covering_overlap(const placed& a, const placed& b) {
+    double sum = 0;
+    for (std::size_t i = 0; i < a.covering.size(); ++i)
+        for (std::size_t j = 0; j < b.covering.size(); ++j)
+            if (a.part_boxes[i].intersects(b.part_boxes[j])) sum += convex_intersection_area(a.covering[i], b.covering[j]);
+    return sum;
+}
+
 /// True if the boxes of two placed instances intersect (a cheap necessary test for overlap).
 [[nodiscard]] inline bool boxes_meet(const placed& a, const placed& b) noexcept {
     return !(a.box.hi.x < b.box.lo.x || b.box.hi.x < a.box.lo.x || a.box.hi.y < b.box.lo.y || b.box.hi.y < a.box.lo.y);

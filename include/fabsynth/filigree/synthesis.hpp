@@ -64,6 +64,7 @@ struct synthesis_result {
     double energy_initial = 0, energy_after_placement = 0, energy_final = 0;
     int rounds = 0;
     std::size_t duplicates_removed = 0, smooth_connections = 0, boosted = 0;
+    std::size_t reconnected = 0;  ///< boosting moves that kept a neighbour by a deformation (§4.4)
     std::size_t database_size = 0;
     double covered_fraction = 0;
     topology_cut_report cut{};
@@ -117,19 +118,26 @@ inline double run_round(pattern_state& s, connection_database& D, const synthesi
     t = clock::now();
     boosting_options bo = opt.boosting;
     bo.seed = po.seed + 1;
+    bo.relax = po;  // the same search, shorter
+    bo.relax.max_iterations = opt.boosting.relax.max_iterations;
+    bo.sigma_d = opt.sigma_d;
+    bo.reconnect = bo.reconnect && opt.smooth_connection;
     const boosting_report br = boost_placement(s, filter_candidates(D, opt.sigma_f), bo);
     r.seconds.boosting += since(t);
     r.boosted += br.boosted;
+    r.reconnected += br.reconnected;
     r.duplicates_removed += remove_duplicates(s);
     return pr.translation + br.translation;
 }
 
 }  // namespace detail::synthesis
 
-/// Runs pattern synthesis on the existing instances of `s` (rounds, duplicates, topology cut).
+/// Runs pattern synthesis on the existing instances of `s` (rounds, duplicates, topology cut);
+/// the moves keep the overlap limits of opt.init (pattern_state::spacing_kept).
 inline void optimize_pattern(pattern_state& s, const synthesis_options& opt, synthesis_result& r) {
     namespace ds = detail::synthesis;
     connection_database D;
+    s.set_spacing(opt.init.max_single_overlap, opt.init.same_class_penalty);  // moves keep §4.1's spacing
     r.energy_initial = s.pattern_energy();
     r.energy_per_round.push_back(s.size() ? r.energy_initial / static_cast<double>(s.size()) : 0.0);
     for (int round = 0; round < opt.max_rounds; ++round) {

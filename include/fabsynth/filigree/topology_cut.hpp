@@ -36,28 +36,25 @@
 /// A cut either happens whole or not at all (refused, counted).
 ///
 /// Connected (the constraint: never disconnect the pattern):
-///  - Two instances touch when an edge of one and an edge of the other intersect, or their distance
-///    is at most (w_a + w_b) / 2 with the widths interpolated at the closest points of the two
-///    edges (strips that touch are connected).
-///  - The pattern's components are those of the graph whose nodes are the instances and whose
-///    edges are the touching pairs (whether or not they are listed in connected_pairs).
-///  - An instance's pieces are the components of its live edges (isolated vertices are ignored).
-/// A cut is applied only if the cut instance keeps at least one edge and does not get more pieces,
-/// and the pattern does not get more components: a connected pattern stays connected. A case-2
-/// branch whose removal would detach pieces of its instance takes along the detached pieces
-/// shorter than the protrusion threshold (what is left of a removed dangling branch, Fig. 9d, would
-/// be a protrusion), keeping the longest; any longer detached piece refuses the cut. Touching
-/// pairs are found once on the input; a cut re-examines only the pairs of the cut instance (a
-/// witness edge pair per touching pair, searched again when one of its edges is cut or split).
-/// Splitting an edge never loses a contact, so this view is never more connected than the
-/// geometry.
-///
+///  - Two edges of different instances touch when they intersect, or their distance is at most
+///    (w_a + w_b) / 2 with the widths interpolated at the closest points of the two edges (strips
+///    that touch are connected).
+///  - The pattern's components are those of the graph whose nodes are the skeleton vertices of all
+///    instances, joined along live edges and across touching edge pairs (whether or not the two
+///    instances are listed in connected_pairs): the printed strips' components.
+/// A cut is applied only if the cut instance keeps at least one edge and the pattern does not get
+/// more components. An instance may fall into several pieces (Fig. 9c: the remains of an element
+/// whose conflicting branch was removed continue in the other element), each of them still joined
+/// to the pattern. A case-2 branch whose removal would detach pieces of its instance takes along
+/// the detached pieces shorter than the protrusion threshold (what is left of a removed dangling
+/// branch, Fig. 9d, would be a protrusion), keeping the longest. Touching edge pairs are found once
+/// on the input and again for the two instances of a pair after their edges are split at the
+/// crossings; a candidate cut recounts the components over the kept pairs, O(V + E + T).
 /// Determinism: pairs in the given order, sites, subgraphs and pieces in increasing ids; no
 /// randomness, no threads. Complexity per pair: O(E_P + E_Q + K) for K candidate edge pairs of
 /// the grid (near-linear unless edges crowd into few cells), plus bounded Dijkstra searches
-/// around each site and O(V + E) per candidate cut for the piece count; the pattern check costs
-/// O(neighbours of the cut instance) while witnesses hold, a touching search per lost witness, and
-/// O(N + C) (C touching pairs) only when a contact is lost.
+/// around each site, O(V + E) of the instance per candidate cut for its pieces, and the pattern
+/// recount, O(V + E + T) over all instances (T touching edge pairs), per candidate cut.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -68,6 +65,7 @@
 #include <queue>
 #include <span>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -230,77 +228,89 @@ struct skeleton_pieces {
     return p;
 }
 
-/// The touch graph of the pattern (see the file comment) and its component count. Each touching
-/// pair keeps a witness: one touching edge pair, which stays valid while both edges live.
+/// The touch graph of the pattern at the level of skeleton pieces (see the file comment): every
+/// touching edge pair of two different instances is kept, so that the components of (vertices
+/// joined along live edges and across touching pairs) can be recounted for any tentative cut.
 class pattern_contacts {
 public:
-    /// What cutting some edges of one instance would do to the touch graph.
-    struct verdict {
-        bool keeps_components = true;   ///< the component count does not grow
-        std::vector<std::size_t> lost;  ///< contacts (indices) that the cut breaks
-    };
-
-    /// Finds the touching pairs of the instances (candidates from their grown boxes).
-    explicit pattern_contacts(const std::vector<skeleton>& instances) : instances_(&instances), of_(instances.size()) {
-        std::vector<box2> boxes(instances.size());
-        for (std::size_t k = 0; k < instances.size(); ++k)
-            for (const box2& b : boxes_of(instances[k], nullptr, true).boxes) boxes[k].extend(b);
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;
-        for_each_overlapping_box(boxes, boxes, [&](std::size_t i, std::size_t j) {
-            if (i < j) candidates.emplace_back(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+    /// Finds the touching edge pairs of the instances (candidates from their grown boxes).
+    explicit pattern_contacts(const std::vector<skeleton>& instances) : instances_(&instances), first_vertex_(instances.size() + 1, 0) {
+        for (std::size_t k = 0; k < instances.size(); ++k) first_vertex_[k + 1] = first_vertex_[k] + instances[k].num_vertices();
+        edge_boxes all;
+        std::vector<std::uint32_t> owner;
+        for (std::uint32_t k = 0; k < instances.size(); ++k) {
+            const edge_boxes b = boxes_of(instances[k], nullptr, true);
+            all.ids.insert(all.ids.end(), b.ids.begin(), b.ids.end());
+            all.boxes.insert(all.boxes.end(), b.boxes.begin(), b.boxes.end());
+            owner.insert(owner.end(), b.ids.size(), k);
+        }
+        for_each_overlapping_box(all.boxes, all.boxes, [&](std::size_t i, std::size_t j) {
+            if (owner[i] < owner[j] && edges_touch(instances[owner[i]], all.ids[i], instances[owner[j]], all.ids[j]))
+                touches_.push_back({owner[i], all.ids[i], owner[j], all.ids[j]});
             return false;
         });
-        std::sort(candidates.begin(), candidates.end());
-        for (const auto& [a, b] : candidates)
-            if (const auto w = touching_edges(instances[a], nullptr, instances[b])) {
-                of_[a].push_back(contacts_.size());
-                of_[b].push_back(contacts_.size());
-                contacts_.push_back({a, b, w->first, w->second, true});
-            }
-        components_ = count_components({});
+        std::sort(touches_.begin(), touches_.end());
+        components_ = count_components(none, nullptr);
     }
 
-    /// The effect of cutting the masked edges of instance x: contacts of x whose witness loses an
-    /// edge are searched again (a new witness is kept whatever the verdict: it avoids the cut).
-    [[nodiscard]] verdict check_cut(std::uint32_t x, const edge_mask& cut) {
+    /// Re-finds the touching pairs of instance x after its edges were split (new vertices, new
+    /// edges): its old pairs are dropped and its live edges are tested against every other instance.
+    void refresh(std::uint32_t x) {
         const auto& inst = *instances_;
-        verdict r;
-        for (const std::size_t k : of_[x]) {
-            contact& c = contacts_[k];
-            if (!c.alive) continue;
-            const bool x_first = c.a == x;
-            const std::uint32_t y = x_first ? c.b : c.a;
-            edge_id& on_x = x_first ? c.edge_a : c.edge_b;
-            edge_id& on_y = x_first ? c.edge_b : c.edge_a;
-            if (usable(inst[x], on_x, &cut) && inst[y].edge_alive(on_y)) continue;
-            if (const auto w = touching_edges(inst[x], &cut, inst[y])) on_x = w->first, on_y = w->second;
-            else r.lost.push_back(k);
+        std::erase_if(touches_, [x](const touch& t) { return t.a == x || t.b == x; });
+        const edge_boxes mine = boxes_of(inst[x], nullptr, true);
+        for (std::uint32_t k = 0; k < inst.size(); ++k) {
+            if (k == x) continue;
+            const edge_boxes other = boxes_of(inst[k], nullptr, true);
+            for_each_overlapping_box(mine.boxes, other.boxes, [&](std::size_t i, std::size_t j) {
+                if (edges_touch(inst[x], mine.ids[i], inst[k], other.ids[j]))
+                    touches_.push_back(x < k ? touch{x, mine.ids[i], k, other.ids[j]} : touch{k, other.ids[j], x, mine.ids[i]});
+                return false;
+            });
         }
-        if (!r.lost.empty()) r.keeps_components = count_components(r.lost) <= components_;
-        return r;
+        std::sort(touches_.begin(), touches_.end());
+        for (std::size_t k = 0; k < inst.size(); ++k) first_vertex_[k + 1] = first_vertex_[k] + inst[k].num_vertices();
+        components_ = count_components(none, nullptr);
     }
-    /// Records an applied cut.
-    void commit(const verdict& v) {
-        for (const std::size_t k : v.lost) contacts_[k].alive = false;
-    }
+
+    /// True iff cutting the masked edges of instance x leaves the pattern with no more components.
+    [[nodiscard]] bool keeps_components(std::uint32_t x, const edge_mask& cut) const { return count_components(x, &cut) <= components_; }
+    /// Records an applied cut (the edges are already removed).
+    void commit() { components_ = count_components(none, nullptr); }
 
 private:
-    struct contact {
-        std::uint32_t a, b;     // instances, a < b
-        edge_id edge_a, edge_b; // witness
-        bool alive;
+    struct touch {
+        std::uint32_t a;
+        edge_id edge_a;
+        std::uint32_t b;  // a < b
+        edge_id edge_b;
+        friend bool operator<(const touch& l, const touch& r) noexcept {
+            return std::tie(l.a, l.edge_a, l.b, l.edge_b) < std::tie(r.a, r.edge_a, r.b, r.edge_b);
+        }
     };
-    /// Components of the touch graph without the `without` contacts (sorted indices).
-    [[nodiscard]] std::size_t count_components(const std::vector<std::size_t>& without) const {
-        union_find uf(instances_->size());
-        for (std::size_t k = 0; k < contacts_.size(); ++k)
-            if (contacts_[k].alive && !std::binary_search(without.begin(), without.end(), k)) uf.unite(contacts_[k].a, contacts_[k].b);
-        return uf.sets();
+    /// Components of the pattern's live edges, with instance x's masked edges left out.
+    [[nodiscard]] std::size_t count_components(std::uint32_t x, const edge_mask* cut) const {
+        const auto& inst = *instances_;
+        union_find uf(first_vertex_.back());
+        std::vector<std::uint8_t> used(first_vertex_.back(), 0);
+        for (std::uint32_t k = 0; k < inst.size(); ++k)
+            for (edge_id e = 0; e < inst[k].edge_slots(); ++e)
+                if (usable(inst[k], e, k == x ? cut : nullptr)) {
+                    const auto [u, v] = inst[k].endpoints(e);
+                    uf.unite(first_vertex_[k] + u, first_vertex_[k] + v);
+                    used[first_vertex_[k] + u] = used[first_vertex_[k] + v] = 1;
+                }
+        for (const touch& t : touches_)
+            if (usable(inst[t.a], t.edge_a, t.a == x ? cut : nullptr) && usable(inst[t.b], t.edge_b, t.b == x ? cut : nullptr))
+                uf.unite(first_vertex_[t.a] + inst[t.a].endpoints(t.edge_a).first, first_vertex_[t.b] + inst[t.b].endpoints(t.edge_b).first);
+        std::size_t n = 0;
+        for (std::uint32_t v = 0; v < used.size(); ++v) n += used[v] && uf.find(v) == v;
+        return n;
     }
 
     const std::vector<skeleton>* instances_;
-    std::vector<contact> contacts_;
-    std::vector<std::vector<std::size_t>> of_;  // contacts per instance, increasing
+    std::vector<std::uint32_t> first_vertex_;  // global id of each instance's vertex 0, and the total
+    std::vector<touch> touches_;
     std::size_t components_ = 0;
 };
 
@@ -331,12 +341,10 @@ inline bool try_cut(std::vector<skeleton>& instances, std::uint32_t x, edge_mask
             after = pieces_of(g, &cut);
         }
     }
-    if (after.count() == 0 || after.count() > pieces_before) return false;
-    const pattern_contacts::verdict v = contacts.check_cut(x, cut);
-    if (!v.keeps_components) return false;
+    if (after.count() == 0 || !contacts.keeps_components(x, cut)) return false;
     for (edge_id e = 0; e < g.edge_slots(); ++e)
         if (cut[e] && g.edge_alive(e)) g.remove_edge(e);
-    contacts.commit(v);
+    contacts.commit();
     return true;
 }
 
@@ -720,6 +728,8 @@ inline void cut_pair(std::vector<skeleton>& instances, std::uint32_t p, std::uin
                      pattern_contacts& contacts, topology_cut_report& report) {
     const pair_crossings x = split_at_crossings(instances[p], instances[q]);
     if (x.sites.empty()) return;
+    contacts.refresh(p);
+    contacts.refresh(q);
     double widest = 0.0;
     for (const crossing_site& s : x.sites) widest = std::max(widest, s.width);
     const double close = threshold(opt.close_intersections, topology_cut_options::close_width_factor, widest);
@@ -734,7 +744,7 @@ inline void cut_pair(std::vector<skeleton>& instances, std::uint32_t p, std::uin
 /// the given order, splits both skeletons at their crossings, removes the less important of each
 /// pair of conflicting branches between close crossings (case 2, eq. 4) and trims protrusions
 /// beyond single crossings (case 1), refusing every cut that would disconnect the pattern (see
-/// the file comment for the phases and for what "connected" means).
+/// the file comment for the phases and for what "connected" means; an instance may end in pieces).
 /// @param instances       skeletons of the element instances in world coordinates (mm); edited:
 ///                        edges are split (new vertices) and removed (dead slots), never moved
 /// @param connected_pairs indices (P, Q) into instances, P != Q, in processing order

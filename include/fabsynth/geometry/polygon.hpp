@@ -12,6 +12,7 @@
 ///   fabsynth::ring2 sq{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
 ///   double a = fabsynth::signed_area(sq);                 // 1 (counter-clockwise)
 ///   bool in = fabsynth::point_in_ring(sq, {0.5, 0.5});    // true
+///   double c = fabsynth::convex_intersection_area(sq, other_convex_ccw_ring);
 ///   auto polys = fabsynth::group_rings({outer, hole});    // outer with one hole
 ///
 /// Predicates use plain double arithmetic (no exact arithmetic): results are exact for integer
@@ -70,6 +71,28 @@ struct polygon_with_holes {
     double a = std::abs(signed_area(p.outer));
     for (const ring2& h : p.holes) a -= std::abs(signed_area(h));
     return a;
+}
+
+/// Area (mm^2 for mm input) of the intersection of two convex counter-clockwise rings: a clipped
+/// by every edge of b (Sutherland-Hodgman), then the shoelace formula. Written by hand because the
+/// general boolean (geometry/clip.hpp, Clipper) costs an integer snap and allocations per call,
+/// and this runs per candidate move in the filigree placement search. 0 if either ring has fewer
+/// than 3 points.
+[[nodiscard]] inline double convex_intersection_area(const ring2& a, const ring2& b) {
+    if (a.size() < 3 || b.size() < 3) return 0.0;
+    ring2 cur = a, next;
+    for (std::size_t i = 0, n = b.size(); i < n && !cur.empty(); ++i) {
+        const vec2 p = b[i], q = b[(i + 1) % n];
+        next.clear();
+        for (std::size_t k = 0, m = cur.size(); k < m; ++k) {
+            const vec2 s = cur[k], e = cur[(k + 1) % m];
+            const double ds = orient2d(p, q, s), de = orient2d(p, q, e);  // >= 0: inside (left of p->q)
+            if (ds >= 0) next.push_back(s);
+            if ((ds >= 0) != (de >= 0)) next.push_back(s + (ds / (ds - de)) * (e - s));
+        }
+        std::swap(cur, next);
+    }
+    return std::max(0.0, signed_area(cur));
 }
 
 /// Length of the closed ring (including the closing edge).
