@@ -249,6 +249,7 @@ int main(int argc, char** argv) {
                               {"cuts_refused_for_connectivity", syn.cut.cuts_refused_for_connectivity}}},
             {"connected_components", rf.components},
             {"pieces_dropped", rf.pieces_dropped},
+            {"pieces_dropped_area_fraction", rf.dropped_area_fraction},
             {"structure", {{"analysed", rf.analysed}, {"material", material}, {"pressure_pa", pressure}, {"yield_mpa", rf.yield_mpa},
                            {"fem_nodes", rf.fem_nodes}, {"solver", rf.solver}, {"histogram_bin_mpa", rf.histogram_bin_mpa},
                            {"histogram_before", rf.histogram_before}, {"histogram_after", rf.histogram_after},

@@ -15,9 +15,10 @@
 ///
 /// One piece: the strips are united and opened (shrunk, then grown, by a tenth of the narrowest
 /// strip width), so that parts touching at a single point, which would print as a hinge, count as
-/// separate; when clipping to the domain or the topology cut leaves more than one connected piece,
-/// the largest (by area) is kept and the others are counted in `pieces_dropped` (they could not be
-/// printed attached to the rest).
+/// separate; when clipping to the domain leaves more than one connected piece (element ends cut off
+/// by the boundary; the topology cut never disconnects), the largest (by area) is kept and the
+/// others are counted in `pieces_dropped`, their share of the strip area in
+/// `dropped_area_fraction` (they could not be printed attached to the rest).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -50,6 +51,7 @@ struct reinforcement_result {
     std::vector<polygon_with_holes> outline;  ///< the printable piece (mm), one polygon with holes
     std::size_t components = 0;               ///< connected pieces of the final outline (1)
     std::size_t pieces_dropped = 0;           ///< pieces removed because they were not attached to the largest
+    double dropped_area_fraction = 0;         ///< their area / the area of all pieces
     double thickness = 0;                     ///< final, mm
     bool analysed = false;
     std::vector<std::size_t> histogram_before, histogram_after;  ///< node counts per 5 MPa bin (Fig. 21)
@@ -69,7 +71,8 @@ namespace detail::reinforce {
 // The united strips clipped to the domain and opened by a fifth of the narrowest strip width (so
 // that pieces touching at a point, which would print as a hinge, count as separate); the largest
 // piece, others counted.
-inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skeleton_graph<vec2>>& sk, const planar_domain& d, std::size_t& dropped) {
+inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skeleton_graph<vec2>>& sk, const planar_domain& d, std::size_t& dropped,
+                                                 double& dropped_fraction) {
     double w = std::numeric_limits<double>::infinity();
     for (const auto& g : sk)
         for (graph::vertex_id v = 0; v < g.num_vertices(); ++v)
@@ -84,6 +87,8 @@ inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skelet
     for (std::size_t i = 1; i < all.size(); ++i)
         if (area(all[i]) > area(all[best])) best = i;
     dropped = all.size() - 1;
+    const double total = area(all);
+    dropped_fraction = total > 0 ? (total - area(all[best])) / total : 0.0;
     return {all[best]};
 }
 
@@ -108,7 +113,7 @@ template <control_field F>
     reinforcement_result r;
     r.instances = syn.instances;
     r.thickness = opt.thickness;
-    r.outline = dr::one_piece(syn.skeletons, domain, r.pieces_dropped);
+    r.outline = dr::one_piece(syn.skeletons, domain, r.pieces_dropped, r.dropped_area_fraction);
     if (opt.enabled) {
         const double h = opt.mesh_edge > 0 ? opt.mesh_edge : 0.6 * dr::median_width(classes);
         structure_options sopt;
@@ -140,12 +145,13 @@ template <control_field F>
             synthesis_result res;
             optimize_pattern(s, again, res);
             std::size_t dropped = 0;
-            auto outline = dr::one_piece(res.skeletons, domain, dropped);
+            double dropped_fraction = 0;
+            auto outline = dr::one_piece(res.skeletons, domain, dropped, dropped_fraction);
             fem_triangulation t2 = make_fem_triangulation(coarsened_outline(outline, 0.25 * h), h);
             structural_report rep2 = analyse_structure(t2, r.thickness, sopt);
             r.weak_fraction_phase1.push_back(rep2.weak_fraction);
             if (rep2.weak_fraction >= rep.weak_fraction) break;  // no better: keep the previous layout
-            r.instances = res.instances, r.outline = std::move(outline), r.pieces_dropped = dropped;
+            r.instances = res.instances, r.outline = std::move(outline), r.pieces_dropped = dropped, r.dropped_area_fraction = dropped_fraction;
             tri = std::move(t2), rep = std::move(rep2);
         }
         // Phase 2: +10% thickness per iteration until no node is weak.
