@@ -5,6 +5,10 @@
 #include <utility>
 #include <vector>
 
+#include <cmath>
+#include <numbers>
+
+#include "fabsynth/core/rng.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 
 namespace fabsynth::test {
@@ -36,6 +40,42 @@ inline triangle_mesh sphere_mesh(double r, int n) {
         m = std::move(o);
     }
     for (auto& v : m.vertices) v = glm::normalize(v) * r;
+    return m;
+}
+
+/// An (n+1) x (n+1) grid of spacing h in the plane z = 0, vertices jittered in x and y by up to
+/// jitter * h (0: a regular grid), each quad split into two counter-clockwise triangles (normal
+/// +z), vertex (i, j) at index j (n + 1) + i.
+inline triangle_mesh plane_grid(int n, double h, std::uint64_t seed, double jitter = 0.2) {
+    triangle_mesh m;
+    counter_rng rng(seed);
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) m.vertices.emplace_back(i * h + rng.uniform(-jitter, jitter) * h, j * h + rng.uniform(-jitter, jitter) * h, 0.0);
+    auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+    return m;
+}
+
+/// The open cylinder x^2 + y^2 = r^2, 0 <= z <= height: `around` segments, rings every dz,
+/// outward normals.
+inline triangle_mesh cylinder(double r, double height, int around, double dz) {
+    triangle_mesh m;
+    const int rings = static_cast<int>(std::round(height / dz));
+    for (int j = 0; j <= rings; ++j)
+        for (int i = 0; i < around; ++i) {
+            const double a = 2 * std::numbers::pi * i / around;
+            m.vertices.emplace_back(r * std::cos(a), r * std::sin(a), j * dz);
+        }
+    auto id = [around](int i, int j) { return static_cast<std::uint32_t>(j * around + (i % around)); };
+    for (int j = 0; j < rings; ++j)
+        for (int i = 0; i < around; ++i) {
+            m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
     return m;
 }
 
