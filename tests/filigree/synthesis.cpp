@@ -39,6 +39,14 @@ inline element load(const std::string& name, double size = 20, double width = 0.
     return element_from_svg(io::read_svg(data / "filigree" / (name + ".svg"), 0.01), o);
 }
 
+// Initialization of one element class with default options and the given seed.
+inline initialization_result initialize_one_class(const std::vector<element>& cls, const planar_domain& dom, std::uint64_t seed) {
+    const std::vector<double> w{1.0};
+    initialization_options io;
+    io.seed = seed;
+    return initialize(std::span<const element>(cls), w, dom, constant_field{}, io);
+}
+
 // Oracle for eq. 1, written from the formula: every pair, no trees.
 inline double brute_mh(const std::vector<vec2>& U, const std::vector<vec2>& V) {
     auto one_way = [](const std::vector<vec2>& A, const std::vector<vec2>& B) {
@@ -217,10 +225,7 @@ TEST_CASE("placement and boosting lower the PME on every bundled element; same r
     for (const std::string& name : bundled()) {
         INFO(name);
         const std::vector<element> cls{load(name)};
-        const std::vector<double> w{1.0};
-        initialization_options io;
-        io.seed = 3;
-        const auto init = initialize(std::span<const element>(cls), w, dom, constant_field{}, io);
+        const auto init = initialize_one_class(cls, dom, 3);
         std::vector<std::vector<instance>> results;
         for (unsigned threads : {1u, 2u}) {
             set_num_threads(threads);
@@ -296,10 +301,8 @@ TEST_CASE("placement and boosting keep the overlap limit of initialization", "[f
     for (const std::string& name : {std::string("spiral"), std::string("c_scroll")}) {
         INFO(name);
         const std::vector<element> cls{load(name)};
-        const std::vector<double> w{1.0};
-        initialization_options io;
-        io.seed = 5;
-        const auto init = initialize(std::span<const element>(cls), w, dom, constant_field{}, io);
+        const auto init = initialize_one_class(cls, dom, 5);
+        const initialization_options io;  // the limits initialization used
         pattern_state s(cls, init.instances, constant_field{}, dom);
         auto worst_pair = [&] {
             double worst = 0;
