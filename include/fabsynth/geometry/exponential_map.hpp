@@ -278,18 +278,24 @@ public:
             finish(q, wsum > 0 ? sum / wsum : vec2(0.0));
             if (glm::length(p.uv.back()) <= reach) relax(q);  // the disk grows by the map's own distances
         }
-        // faces with three finished vertices
-        std::vector<std::uint32_t> candidate;
-        for (const std::uint32_t v : p.vertices)
-            for (std::uint32_t k = faces_of_[v]; k < faces_of_[v + 1]; ++k) candidate.push_back(incident_[k]);
-        std::sort(candidate.begin(), candidate.end());
-        candidate.erase(std::unique(candidate.begin(), candidate.end()), candidate.end());
-        for (const std::uint32_t f : candidate) {
-            const auto& c = m.faces[f];
-            if (sc.slot[c[0]] == none || sc.slot[c[1]] == none || sc.slot[c[2]] == none) continue;
-            p.faces.push_back(f);
-            p.corners.push_back({sc.slot[c[0]], sc.slot[c[1]], sc.slot[c[2]]});
+        // faces with three finished vertices, taken from the corner with the highest slot (the
+        // last one finished; a degenerate face repeating it is listed twice, hence unique), then
+        // put in face order for uv_of
+        std::vector<std::uint32_t> found;
+        for (std::uint32_t k = 0; k < p.vertices.size(); ++k) {
+            const std::uint32_t v = p.vertices[k];
+            for (std::uint32_t i = faces_of_[v]; i < faces_of_[v + 1]; ++i) {
+                const auto& c = m.faces[incident_[i]];
+                const std::uint32_t a = sc.slot[c[0]], b = sc.slot[c[1]], d = sc.slot[c[2]];
+                if (a == none || b == none || d == none || std::max({a, b, d}) != k) continue;
+                found.push_back(incident_[i]);
+            }
         }
+        std::sort(found.begin(), found.end());
+        found.erase(std::unique(found.begin(), found.end()), found.end());
+        p.faces = std::move(found);
+        p.corners.reserve(p.faces.size());
+        for (const std::uint32_t f : p.faces) p.corners.push_back({sc.slot[m.faces[f][0]], sc.slot[m.faces[f][1]], sc.slot[m.faces[f][2]]});
         p.index();
         return p;
     }
