@@ -1,0 +1,90 @@
+// geometry/bake.hpp (filigree-synthesis.md §6.1): a flat and a tilted mesh baked with a polygonal
+// disk, a ring with a hole and a rectangle that leaves the mesh: areas and boundary lengths against
+// closed forms (cracks between faces would add boundary), manifold edges, components, bad input.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <vector>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/geometry/bake.hpp"
+#include "fabsynth/geometry/mesh_topology.hpp"
+#include "support/sphere_mesh.hpp"
+
+namespace bake_test {
+
+using namespace fabsynth;
+
+inline double mesh_area(const triangle_mesh& m) {
+    double a = 0;
+    for (const auto& f : m.faces) a += 0.5 * glm::length(glm::cross(m.vertices[f[1]] - m.vertices[f[0]], m.vertices[f[2]] - m.vertices[f[0]]));
+    return a;
+}
+
+/// Total length of the edges used by exactly one face (counted by hand, no library code).
+inline double boundary_length(const triangle_mesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (const auto& f : m.faces)
+        for (int k = 0; k < 3; ++k) ++uses[{std::min(f[k], f[(k + 1) % 3]), std::max(f[k], f[(k + 1) % 3])}];
+    double l = 0;
+    for (const auto& [e, n] : uses)
+        if (n == 1) l += glm::distance(m.vertices[e.first], m.vertices[e.second]);
+    return l;
+}
+
+TEST_CASE("bake: areas and boundaries of baked contours equal their closed forms, flat and tilted", "[geometry][bake]") {
+    const int n = 10;
+    triangle_mesh m = test::plane_grid(n, 1.0, 1, 0.0);  // [0, 10]^2
+    std::vector<vec2> uv;
+    for (const vec3& v : m.vertices) uv.emplace_back(v.x, v.y);
+    std::vector<std::uint32_t> faces(m.num_faces());
+    for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = f;
+
+    const int sides = 64;
+    const double r = 2.7;
+    ring2 disk;
+    for (int k = 0; k < sides; ++k) disk.push_back(vec2(3.5, 3.5) + r * vec2(std::cos(2 * std::numbers::pi * k / sides), std::sin(2 * std::numbers::pi * k / sides)));
+    const polygon_with_holes ring{{{6.5, 5.5}, {9.5, 5.5}, {9.5, 9.5}, {6.5, 9.5}}, {{{7.3, 6.5}, {7.3, 8.5}, {8.7, 8.5}, {8.7, 6.5}}}};
+    const polygon_with_holes out_of_mesh{{{8.5, 0.5}, {12.0, 0.5}, {12.0, 2.0}, {8.5, 2.0}}, {}};
+    const std::vector<polygon_with_holes> contours{{disk, {}}, ring, out_of_mesh};
+
+    const double disk_area = 0.5 * sides * r * r * std::sin(2 * std::numbers::pi / sides), disk_perimeter = sides * 2 * r * std::sin(std::numbers::pi / sides);
+    const double exact_area = disk_area + (12.0 - 1.4 * 2.0) + 1.5 * 1.5;
+    const double exact_boundary = disk_perimeter + 14.0 + 6.8 + 6.0;
+
+    for (const bool tilted : {false, true}) {
+        INFO((tilted ? "tilted" : "flat"));
+        triangle_mesh base = m;
+        if (tilted)  // rotate 0.6 rad about the x axis and lift: the chart stays the flat x, y
+            for (vec3& v : base.vertices) v = vec3(v.x, std::cos(0.6) * v.y - std::sin(0.6) * 5.0, std::sin(0.6) * v.y + 7.0);
+        const triangle_mesh mb = bake(base, uv, faces, contours);
+        CHECK(mesh_area(mb) == Approx(exact_area).epsilon(1e-9));  // a rotation keeps areas and lengths
+        CHECK(boundary_length(mb) == Approx(exact_boundary).epsilon(1e-9));
+        const auto t = analyze_topology(mb);
+        CHECK(t.nonmanifold_edges == 0);
+        std::size_t parts = 0;
+        (void)face_components(mb, &parts);
+        CHECK(parts == 3);
+    }
+}
+
+TEST_CASE("bake: nothing to bake, bad input", "[geometry][bake]") {
+    const triangle_mesh m = test::plane_grid(2, 1.0, 1, 0.0);
+    std::vector<vec2> uv;
+    for (const vec3& v : m.vertices) uv.emplace_back(v.x, v.y);
+    const std::vector<std::uint32_t> faces{0, 1, 2};
+    const std::vector<polygon_with_holes> far{{{{10, 10}, {11, 10}, {11, 11}}, {}}};
+    CHECK(bake(m, uv, faces, far).faces.empty());
+    CHECK(bake(m, uv, faces, {}).faces.empty());
+    const std::vector<vec2> short_uv(3);
+    CHECK_THROWS_AS(bake(m, short_uv, faces, far), invalid_input);
+    const std::vector<std::uint32_t> bad_face{99};
+    CHECK_THROWS_AS(bake(m, uv, bad_face, far), invalid_input);
+    std::vector<vec2> nan_uv = uv;
+    nan_uv[0].x = NAN;
+    CHECK_THROWS_AS(bake(m, nan_uv, faces, far), invalid_input);
+}
+
+}  // namespace bake_test
