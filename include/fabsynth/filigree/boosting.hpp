@@ -145,7 +145,7 @@ struct boost_move {
         cands.push_back(avg / static_cast<double>(cands.size()));
     }
     auto consider = [&](const instance& cand, const placed& g, const std::vector<std::uint32_t>& now, bool deformed) {
-        if (!stranded(adj, nbrs, now).empty() || !s.spacing_kept(i, cand, g, now)) return;
+        if (!stranded(adj, nbrs, now).empty()) return;
         const double e = candidate_energy(s, g, now, nbrs.size());
         if (e < best) best = e, r.best = cand, r.moved = true, r.reconnected = deformed, r.translation = glm::distance(cand.position, cur.position);
     };
@@ -170,7 +170,7 @@ struct boost_move {
             now = s.neighbours_of(g, i);
             deformed = true;
         }
-        if (deformed) consider(cand, g, now, true);
+        if (deformed && s.spacing_kept(i, cand, g, now)) consider(cand, g, now, true);  // it may have gained neighbours
     }
     return r;
 }

@@ -70,7 +70,7 @@ namespace fabsynth {
     for (const std::uint32_t f : faces) {
         const auto& c = m.faces[f];
         const vec2 a = uv[c[0]], b = uv[c[1]], d = uv[c[2]];
-        const double area2 = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
+        const double area2 = orient2d(a, b, d);
         if (!(std::abs(area2) > 0)) continue;  // a degenerate chart triangle covers nothing
         box2 tb;
         tb.extend(a).extend(b).extend(d);
@@ -87,9 +87,8 @@ namespace fabsynth {
             const ClipperLib::IntPoint g = grid.to_int(q);
             const auto [it, fresh] = welded.try_emplace({static_cast<long long>(g.X), static_cast<long long>(g.Y)}, static_cast<std::uint32_t>(out.vertices.size()));
             if (fresh) {  // lift by the barycentric coordinates of q in the chart triangle
-                const double l1 = ((b.x - q.x) * (d.y - q.y) - (b.y - q.y) * (d.x - q.x)) / area2;
-                const double l2 = ((d.x - q.x) * (a.y - q.y) - (d.y - q.y) * (a.x - q.x)) / area2;
-                out.vertices.push_back(l1 * m.vertices[c[0]] + l2 * m.vertices[c[1]] + (1 - l1 - l2) * m.vertices[c[2]]);
+                const vec3 l = barycentric(q, a, b, d);
+                out.vertices.push_back(l.x * m.vertices[c[0]] + l.y * m.vertices[c[1]] + l.z * m.vertices[c[2]]);
             }
             id[k] = it->second;
         }

@@ -57,6 +57,7 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/mesh.hpp"
+#include "fabsynth/geometry/polygon.hpp"
 
 namespace fabsynth {
 
@@ -65,21 +66,6 @@ struct surface_point {
     std::uint32_t face = 0;
     vec3 bary{1.0 / 3, 1.0 / 3, 1.0 / 3};
 };
-
-/// Area-weighted unit vertex normals (the sum of the unnormalised normals of the faces around a
-/// vertex, normalised); (0, 0, 0) for a vertex no face with area uses.
-[[nodiscard]] inline std::vector<vec3> vertex_normals(const triangle_mesh& m) {
-    std::vector<vec3> n(m.num_vertices(), vec3(0.0));
-    for (std::size_t f = 0; f < m.num_faces(); ++f) {
-        const vec3 a2 = face_normal_area2(m, f);
-        for (const std::uint32_t v : m.faces[f]) n[v] += a2;
-    }
-    for (vec3& x : n) {
-        const double l = glm::length(x);
-        x = l > 0 ? x / l : vec3(0.0);
-    }
-    return n;
-}
 
 /// One local parameterization (see the file comment).
 class local_patch {
@@ -107,13 +93,10 @@ public:
             const std::uint32_t t = cell_faces_[k];
             const auto& q = corners[t];
             const vec2 a = uv[q[0]], b = uv[q[1]], d = uv[q[2]];
-            const double area2 = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
-            if (!(std::abs(area2) > 0)) continue;  // folded flat
-            const double l1 = ((b.x - p.x) * (d.y - p.y) - (b.y - p.y) * (d.x - p.x)) / area2;
-            const double l2 = ((d.x - p.x) * (a.y - p.y) - (d.y - p.y) * (a.x - p.x)) / area2;
-            const double l3 = 1.0 - l1 - l2;
+            if (!(std::abs(orient2d(a, b, d)) > 0)) continue;  // folded flat
+            const vec3 l = barycentric(p, a, b, d);
             constexpr double slack = -1e-12;  // points on a shared edge belong to both faces
-            if (l1 >= slack && l2 >= slack && l3 >= slack) return surface_point{faces[t], {l1, l2, l3}};
+            if (l.x >= slack && l.y >= slack && l.z >= slack) return surface_point{faces[t], l};
         }
         return std::nullopt;
     }

@@ -44,6 +44,32 @@ struct triangle_mesh {
     return glm::cross(m.vertices[t[1]] - m.vertices[t[0]], m.vertices[t[2]] - m.vertices[t[0]]);
 }
 
+/// Area-weighted unit vertex normals (the sum of the unnormalised normals of the faces around a
+/// vertex, normalised); (0, 0, 0) for a vertex no face with area uses.
+[[nodiscard]] inline std::vector<vec3> vertex_normals(const triangle_mesh& m) {
+    std::vector<vec3> n(m.num_vertices(), vec3(0.0));
+    for (std::size_t f = 0; f < m.num_faces(); ++f) {
+        const vec3 a2 = face_normal_area2(m, f);
+        for (const std::uint32_t v : m.faces[f]) n[v] += a2;
+    }
+    for (vec3& x : n) {
+        const double l = glm::length(x);
+        x = l > 0 ? x / l : vec3(0.0);
+    }
+    return n;
+}
+
+/// Barycentric coordinates over the triangle (a, b, c) of the point of its plane nearest to x
+/// (x on or near the triangle); the centroid's (1/3 each) for a degenerate triangle.
+[[nodiscard]] inline vec3 barycentric(vec3 x, vec3 a, vec3 b, vec3 c) {
+    const vec3 v0 = b - a, v1 = c - a, v2 = x - a;
+    const double d00 = glm::dot(v0, v0), d01 = glm::dot(v0, v1), d11 = glm::dot(v1, v1), d20 = glm::dot(v2, v0), d21 = glm::dot(v2, v1);
+    const double den = d00 * d11 - d01 * d01;
+    if (!(std::abs(den) > 0)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+    return {1 - v - w, v, w};
+}
+
 /// Total surface area.
 [[nodiscard]] inline double surface_area(const triangle_mesh& m) {
     double a = 0;

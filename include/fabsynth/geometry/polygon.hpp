@@ -56,6 +56,14 @@ struct polygon_with_holes {
     return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
 }
 
+/// Barycentric coordinates of p over the triangle (a, b, c), either orientation; the triangle
+/// must have non-zero area (orient2d(a, b, c) != 0).
+[[nodiscard]] inline vec3 barycentric(vec2 p, vec2 a, vec2 b, vec2 c) noexcept {
+    const double area2 = orient2d(a, b, c);
+    const double l1 = orient2d(p, b, c) / area2, l2 = orient2d(p, c, a) / area2;
+    return {l1, l2, 1.0 - l1 - l2};
+}
+
 /// Signed area by the shoelace formula; positive = counter-clockwise in a y-up frame. Rings with
 /// fewer than 3 points have area 0. Coordinates are taken relative to r[0] to limit cancellation.
 [[nodiscard]] inline double signed_area(const ring2& r) noexcept {

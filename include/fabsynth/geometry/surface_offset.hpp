@@ -51,16 +51,6 @@ struct surface_offset_options {
 
 namespace detail::offset {
 
-// Barycentric coordinates of point x (on or near triangle a b c) over its corners.
-[[nodiscard]] inline vec3 barycentric(vec3 x, vec3 a, vec3 b, vec3 c) {
-    const vec3 v0 = b - a, v1 = c - a, v2 = x - a;
-    const double d00 = glm::dot(v0, v0), d01 = glm::dot(v0, v1), d11 = glm::dot(v1, v1), d20 = glm::dot(v2, v0), d21 = glm::dot(v2, v1);
-    const double den = d00 * d11 - d01 * d01;
-    if (!(std::abs(den) > 0)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-    const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
-    return {1 - v - w, v, w};
-}
-
 [[nodiscard]] inline triangle_mesh thicken(const triangle_mesh& mb, std::span<const double> tau, const surface_offset_options& opt) {
     validate(mb, "thicken_surface input mesh");
     if (mb.faces.empty()) throw invalid_input("thicken_surface: the surface has no faces");
