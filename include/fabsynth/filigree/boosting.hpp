@@ -55,10 +55,17 @@ namespace fabsynth::filigree {
     return out;
 }
 
+/// Placement options with 3 iterations: the relaxation after a boosting iteration.
+[[nodiscard]] inline placement_options short_placement() {
+    placement_options o;
+    o.max_iterations = 3;
+    return o;
+}
+
 struct boosting_options {
     int max_iterations = 2;
     std::uint64_t seed = 1;
-    placement_options relax{.max_iterations = 3};  ///< the placement that follows each iteration (its seed is derived from `seed`)
+    placement_options relax = short_placement();  ///< the placement that follows each iteration (its seed is derived from `seed`)
     bool reconnect = true;       ///< reconnection by deformation (§4.4)
     double sigma_d = 0.15;       ///< distortion bound of a reconnection (Table 1: 0.13-0.17)
     double reconnect_gap = 3.0;  ///< largest gap bridged by a reconnection, in strip widths of the moved element
