@@ -102,12 +102,13 @@ namespace detail::boosting {
     return sum / static_cast<double>(nbrs.size()) * static_cast<double>(std::max(old_count, nbrs.size())) + s.theta(g);
 }
 
-// The former neighbours that i leaves without any other neighbour (i was their only one).
-[[nodiscard]] inline std::vector<std::uint32_t> stranded(const std::vector<std::vector<std::uint32_t>>& adj, std::span<const std::uint32_t> before,
+// The former neighbours that i leaves without any other neighbour (i was their only one);
+// degree[k] is the neighbour count of before[k].
+[[nodiscard]] inline std::vector<std::uint32_t> stranded(std::span<const std::uint32_t> before, std::span<const std::size_t> degree,
                                                          std::span<const std::uint32_t> after) {
     std::vector<std::uint32_t> out;
-    for (const std::uint32_t j : before)
-        if (!std::binary_search(after.begin(), after.end(), j) && adj[j].size() <= 1) out.push_back(j);
+    for (std::size_t k = 0; k < before.size(); ++k)
+        if (!std::binary_search(after.begin(), after.end(), before[k]) && degree[k] <= 1) out.push_back(before[k]);
     return out;
 }
 
@@ -128,11 +129,12 @@ struct boost_move {
     double translation = 0;
 };
 
-[[nodiscard]] inline boost_move learn(const pattern_state& s, const connection_database& filtered, const std::vector<std::vector<std::uint32_t>>& adj,
-                                      std::size_t i, double good_enough, const boosting_options& opt) {
+// Instance i of the picture s with neighbours nbrs (ids of s, increasing) whose neighbour counts in
+// the whole pattern are `degree`.
+[[nodiscard]] inline boost_move learn(const pattern_state& s, const connection_database& filtered, std::size_t i, std::span<const std::uint32_t> nbrs,
+                                      std::span<const std::size_t> degree, double good_enough, const boosting_options& opt) {
     const instance& cur = s.instances()[i];
     boost_move r{cur, false, false, 0};
-    const std::span<const std::uint32_t> nbrs = adj[i];
     double worst = 0;
     for (const std::uint32_t j : nbrs) worst = std::max(worst, pair_distance(s.geometry()[i], s.geometry()[j]));
     if (worst <= good_enough) return r;  // every pair of i is as good as the pairs of D'
@@ -152,7 +154,7 @@ struct boost_move {
         cands.push_back(avg / static_cast<double>(cands.size()));
     }
     auto consider = [&](const instance& cand, const placed& g, const std::vector<std::uint32_t>& now, bool deformed) {
-        if (!stranded(adj, nbrs, now).empty()) return;
+        if (!stranded(nbrs, degree, now).empty()) return;
         const double e = candidate_energy(s, g, now, nbrs.size());
         if (e < best) best = e, r.best = cand, r.moved = true, r.reconnected = deformed, r.translation = glm::distance(cand.position, cur.position);
     };
@@ -188,27 +190,39 @@ struct boost_move {
 /// thread count (independent sets, moves applied in instance order after each set; the relaxing
 /// placement is deterministic too). The PME never rises: an iteration whose moves and relaxation
 /// end above the PME it started from is undone and ends boosting.
-[[nodiscard]] inline boosting_report boost_placement(pattern_state& s, const connection_database& filtered, const boosting_options& opt = {}) {
+template <pattern_space S>
+[[nodiscard]] boosting_report boost_placement(S& s, const connection_database& filtered, const boosting_options& opt = {}) {
     namespace db = detail::boosting;
+    using view_type = decltype(s.view(0));
     boosting_report rep;
     if (s.size() == 0 || filtered.empty()) return rep;
     double good_enough = 0;  // the worst quality kept in D'
     for (const connection_record& r : filtered) good_enough = std::max(good_enough, r.quality);
     double energy = s.pattern_energy();
     for (int it = 0; it < opt.max_iterations; ++it) {
-        const std::vector<instance> before = s.instances();
+        auto before = s.snapshot();
         std::size_t moved = 0, reconnected = 0;
         double translation = 0;
         const auto sets = detail::placement::independent_sets(s.connectivity());
         for (const auto& set : sets) {
             const auto adj = s.connectivity();  // moves of the previous set changed neighbourhoods
             std::vector<db::boost_move> res(set.size());
-            parallel_for(0, set.size(), [&](std::size_t k) { res[k] = db::learn(s, filtered, adj, set[k], good_enough, opt); });
-            for (std::size_t k = 0; k < set.size(); ++k)
-                if (res[k].moved && db::still_connected_after(s, set[k], res[k].best)) {
-                    reconnected += res[k].reconnected;
-                    s.update(set[k], std::move(res[k].best)), ++moved, translation += res[k].translation;
-                }
+            parallel_for(0, set.size(), [&](std::size_t k) {
+                const view_type v = s.view(set[k]);
+                const auto nbrs = v.to_local(adj[set[k]]);
+                if (!nbrs) return;  // a neighbour outside the picture: i stays
+                std::vector<std::size_t> degree;
+                for (const std::uint32_t j : adj[set[k]]) degree.push_back(adj[j].size());
+                res[k] = db::learn(v.state(), filtered, v.index(), *nbrs, degree, good_enough, opt);
+            });
+            for (std::size_t k = 0; k < set.size(); ++k) {
+                if (!res[k].moved) continue;
+                const view_type v = s.view(set[k]);  // the same frame as learn's: set[k] has not moved since
+                if (!db::still_connected_after(v.state(), v.index(), res[k].best)) continue;
+                reconnected += res[k].reconnected;
+                translation += res[k].translation, ++moved;
+                s.adopt(set[k], v, std::move(res[k].best));
+            }
         }
         ++rep.iterations;
         if (moved == 0) {
@@ -221,7 +235,7 @@ struct boost_move {
         translation += place_optimize(s, scratch, relax).translation;
         const double after = s.pattern_energy();
         if (!(after < energy)) {  // boosting never ends above its start
-            s.set_instances(before);
+            s.restore(std::move(before));
             ++rep.undone;
             rep.energy.push_back(energy);
             break;

@@ -74,12 +74,9 @@ namespace detail::connection {
     const instance& cur = s.instances()[i];
     const element& e = s.classes()[cur.cls];
     const placed& g = s.geometry()[i];
-    const box2& b = g.box;
-    const box2& d = s.domain().bounds;
-    const double reach = copt.max_gap + copt.max_intersection_gap;
-    if (b.lo.x - d.lo.x > reach && b.lo.y - d.lo.y > reach && d.hi.x - b.hi.x > reach && d.hi.y - b.hi.y > reach && s.domain().region.size() == 1 &&
-        s.domain().region[0].holes.empty())
-        return std::nullopt;  // far from the outer boundary of a domain without holes
+    const box2 near = g.box.inflated(copt.max_gap + copt.max_intersection_gap);
+    if (std::none_of(s.boundary_samples().begin(), s.boundary_samples().end(), [&](vec2 q) { return near.contains(q); }))
+        return std::nullopt;  // far from the domain boundary
     const std::vector<std::uint32_t> fixed = detail::connection::fixed_contacts(s, g, nbrs, SIZE_MAX, e.median_width(), 12);
     std::optional<ffd_result> r;
     try {

@@ -13,6 +13,8 @@
 /// shapes are united; SVG user units are taken as mm. Throws invalid_input for a rectangle that is
 /// not finite and > 0, or a drawing without filled area.
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,33 @@
 #include "fabsynth/filigree/element.hpp"
 
 namespace fabsynth::filigree {
+
+/// The domain as the synthesis steps see it in one 2D frame (mm): a membership test and the
+/// boundary as polylines. A planar domain is its own frame (planar_domain::frame()); on a surface
+/// every instance's neighbourhood gets one, in its local parameterization (surface_space.hpp).
+struct local_domain {
+    std::function<bool(vec2)> inside;           ///< true for points of the domain
+    std::vector<std::vector<vec2>> boundary;    ///< boundary polylines (mm)
+    std::vector<bool> closed;                   ///< per polyline: a closed ring
+
+    [[nodiscard]] bool contains(vec2 p) const { return inside(p); }
+
+    /// Points along every boundary polyline, at most `spacing` mm apart (its vertices included).
+    [[nodiscard]] std::vector<vec2> boundary_samples(double spacing) const {
+        std::vector<vec2> out;
+        for (std::size_t r = 0; r < boundary.size(); ++r) {
+            const auto& line = boundary[r];
+            const std::size_t n = line.size(), segs = closed[r] ? n : (n ? n - 1 : 0);
+            for (std::size_t i = 0; i < segs; ++i) {
+                const vec2 a = line[i], b = line[(i + 1) % n];
+                const int k = std::max(1, static_cast<int>(std::ceil(glm::distance(a, b) / spacing)));
+                for (int t = 0; t < k; ++t) out.push_back(a + (b - a) * (static_cast<double>(t) / k));
+            }
+            if (!closed[r] && n) out.push_back(line.back());
+        }
+        return out;
+    }
+};
 
 /// A region of the plane (mm): polygons with holes, outer rings counter-clockwise.
 struct planar_domain {
@@ -76,21 +105,15 @@ struct planar_domain {
         return false;
     }
 
-    /// Points along every boundary ring, at most `spacing` mm apart (ring vertices included).
-    [[nodiscard]] std::vector<vec2> boundary_samples(double spacing) const {
-        std::vector<vec2> out;
-        auto ring = [&](const ring2& r) {
-            for (std::size_t i = 0; i < r.size(); ++i) {
-                const vec2 a = r[i], b = r[(i + 1) % r.size()];
-                const int n = std::max(1, static_cast<int>(std::ceil(glm::distance(a, b) / spacing)));
-                for (int k = 0; k < n; ++k) out.push_back(a + (b - a) * (static_cast<double>(k) / n));
-            }
-        };
+    /// This domain as its own synthesis frame (the region is copied into the membership test).
+    [[nodiscard]] local_domain frame() const {
+        local_domain f;
+        f.inside = [d = std::make_shared<const planar_domain>(*this)](vec2 p) { return d->contains(p); };
         for (const polygon_with_holes& p : region) {
-            ring(p.outer);
-            for (const ring2& h : p.holes) ring(h);
+            f.boundary.emplace_back(p.outer.begin(), p.outer.end()), f.closed.push_back(true);
+            for (const ring2& h : p.holes) f.boundary.emplace_back(h.begin(), h.end()), f.closed.push_back(true);
         }
-        return out;
+        return f;
     }
 };
 

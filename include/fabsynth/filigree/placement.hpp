@@ -29,6 +29,7 @@
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -54,25 +55,34 @@ struct connection_record {
 };
 using connection_database = std::vector<connection_record>;
 
-/// The pattern being synthesized: classes, instances, their world geometry and the control field.
+/// The pattern being synthesized: classes, instances, their geometry and the control field in one
+/// 2D frame, with the domain as seen in that frame. For a planar domain the frame is the plane;
+/// on a surface (surface_space.hpp) a pattern_state is the picture of one instance's neighbourhood
+/// in its local parameterization.
+///
+/// It is also the planar pattern space of the synthesis drivers (place_optimize, boost_placement,
+/// optimize_pattern): snapshot()/restore(), view(i) (the state itself, see identity_view) and
+/// adopt(i, view, instance).
 class pattern_state {
 public:
     pattern_state(std::span<const element> classes, std::vector<instance> instances, any_field field, const planar_domain& domain,
                   double gamma_boundary = 1.0)
-        : classes_(classes), field_(std::move(field)), domain_(&domain), gamma_boundary_(gamma_boundary) {
+        : pattern_state(classes, std::move(instances), std::move(field), domain.frame(), gamma_boundary) {}
+
+    pattern_state(std::span<const element> classes, std::vector<instance> instances, any_field field, local_domain domain, double gamma_boundary = 1.0)
+        : classes_(classes), field_(std::move(field)), domain_(std::move(domain)), gamma_boundary_(gamma_boundary) {
         double w = 0;
         for (const element& e : classes) w = std::max(w, e.median_width());
         band_ = 2 * w;
-        boundary_ = domain.boundary_samples(std::max(w, 1e-3));
-        for (const polygon_with_holes& p : domain.region)  // every ring as a closed polyline
-            for (std::size_t r = 0; r <= p.holes.size(); ++r) {
-                const ring2& ring = r == 0 ? p.outer : p.holes[r - 1];
-                const auto first = static_cast<std::uint32_t>(boundary_positions_.size());
-                for (std::size_t k = 0; k < ring.size(); ++k) {
-                    boundary_positions_.push_back(ring[k]);
-                    boundary_edges_.push_back({first + static_cast<std::uint32_t>(k), first + static_cast<std::uint32_t>((k + 1) % ring.size())});
-                }
-            }
+        boundary_ = domain_.boundary_samples(std::max(w, 1e-3));
+        for (std::size_t r = 0; r < domain_.boundary.size(); ++r) {  // every polyline as a skeleton
+            const auto& line = domain_.boundary[r];
+            const auto first = static_cast<std::uint32_t>(boundary_positions_.size());
+            const std::size_t n = line.size(), segs = domain_.closed[r] ? n : (n ? n - 1 : 0);
+            boundary_positions_.insert(boundary_positions_.end(), line.begin(), line.end());
+            for (std::size_t k = 0; k < segs; ++k)
+                boundary_edges_.push_back({first + static_cast<std::uint32_t>(k), first + static_cast<std::uint32_t>((k + 1) % n)});
+        }
         set_instances(std::move(instances));
     }
 
@@ -80,11 +90,13 @@ public:
     [[nodiscard]] const std::vector<instance>& instances() const noexcept { return instances_; }
     [[nodiscard]] const std::vector<placed>& geometry() const noexcept { return geo_; }
     [[nodiscard]] const any_field& field() const noexcept { return field_; }
-    [[nodiscard]] const planar_domain& domain() const noexcept { return *domain_; }
+    [[nodiscard]] const local_domain& domain() const noexcept { return domain_; }
     [[nodiscard]] std::size_t size() const noexcept { return instances_.size(); }
     /// The domain boundary as a skeleton: ring vertices (mm) and the edges closing every ring.
     [[nodiscard]] std::span<const vec2> boundary_positions() const noexcept { return boundary_positions_; }
     [[nodiscard]] std::span<const std::array<std::uint32_t, 2>> boundary_edges() const noexcept { return boundary_edges_; }
+    /// Boundary samples (mm), at most the widest median strip width apart (the Theta term's B).
+    [[nodiscard]] std::span<const vec2> boundary_samples() const noexcept { return boundary_; }
 
     void set_instances(std::vector<instance> in) {
         instances_ = std::move(in);
@@ -165,6 +177,29 @@ public:
         }
         return e;
     }
+    // The planar pattern space (see the class comment).
+    using snapshot_type = std::vector<instance>;
+    [[nodiscard]] snapshot_type snapshot() const { return instances_; }
+    void restore(snapshot_type in) { set_instances(std::move(in)); }
+    [[nodiscard]] const instance& instance_at(std::size_t i) const noexcept { return instances_[i]; }
+    /// Instance i's neighbourhood as a planar picture: here the state itself.
+    struct identity_view {
+        const pattern_state* s;
+        std::size_t i;
+        [[nodiscard]] const pattern_state& state() const noexcept { return *s; }
+        [[nodiscard]] std::size_t index() const noexcept { return i; }
+        /// Pattern-wide ids as ids of state() (nothing if one is not in the picture).
+        [[nodiscard]] std::optional<std::vector<std::uint32_t>> to_local(std::span<const std::uint32_t> ids) const {
+            return std::vector<std::uint32_t>(ids.begin(), ids.end());
+        }
+    };
+    [[nodiscard]] identity_view view(std::size_t i) const noexcept { return {this, i}; }
+    /// Replaces instance i by `in`, given in the frame of `v` (a view of i).
+    void adopt(std::size_t i, const identity_view&, instance in) { update(i, std::move(in)); }
+    [[nodiscard]] double max_pair_overlap() const noexcept { return max_pair_overlap_; }
+    [[nodiscard]] double same_class_penalty() const noexcept { return same_class_penalty_; }
+    [[nodiscard]] double gamma_boundary() const noexcept { return gamma_boundary_; }
+
     /// Number of connected pairs.
     [[nodiscard]] std::size_t pair_count() const {
         std::size_t n = 0;
@@ -177,13 +212,31 @@ private:
     std::vector<instance> instances_;
     std::vector<placed> geo_;
     any_field field_;
-    const planar_domain* domain_;
+    local_domain domain_;
     double gamma_boundary_;
     double max_pair_overlap_ = 0.30, same_class_penalty_ = 1.5;  // initialization_options' defaults
     double band_ = 0;
     std::vector<vec2> boundary_;
     std::vector<vec2> boundary_positions_;
     std::vector<std::array<std::uint32_t, 2>> boundary_edges_;
+};
+
+/// What the synthesis drivers need of a pattern: its instances (instance_at(i): class and scale),
+/// the connectivity graph and PME over the whole pattern, snapshots to undo an iteration, and per
+/// instance a view: a pattern_state holding the instance (view.index()) and its neighbourhood in one
+/// 2D frame, where the steps of part 1 run unchanged; adopt() takes an instance given in a view's
+/// frame back into the pattern. pattern_state is the planar space; surface_space.hpp the other.
+template <class S>
+concept pattern_space = requires(S& s, const S& cs, std::size_t i, instance in) {
+    { cs.size() } -> std::convertible_to<std::size_t>;
+    { cs.classes() } -> std::convertible_to<std::span<const element>>;
+    { cs.instance_at(i) } -> std::convertible_to<const instance&>;
+    { cs.connectivity() } -> std::convertible_to<std::vector<std::vector<std::uint32_t>>>;
+    { cs.pattern_energy() } -> std::convertible_to<double>;
+    { cs.view(i).state() } -> std::convertible_to<const pattern_state&>;
+    { cs.view(i).index() } -> std::convertible_to<std::size_t>;
+    s.restore(cs.snapshot());
+    s.adopt(i, cs.view(i), in);
 };
 
 /// Smooth connection hook (§4.3.2): given the state and an instance index, returns the deformed
@@ -228,12 +281,13 @@ struct move_result {
 
 // STOCHASTICSEARCH (§4.3.1) for instance i: the best of the current position and `candidates`
 // random displacements that keep every old neighbour.
+// `stream` names the instance pattern-wide (its random numbers do not depend on the view).
 [[nodiscard]] inline move_result stochastic_search(const pattern_state& s, std::size_t i, std::span<const std::uint32_t> nbrs, double radius,
-                                                   int candidates, std::uint64_t seed, std::uint64_t iteration) {
+                                                   int candidates, std::uint64_t seed, std::uint64_t iteration, std::uint64_t stream) {
     const instance& cur = s.instances()[i];
     move_result r{cur, false, 0, {}};
     double best = s.local_energy(s.geometry()[i], nbrs);
-    counter_rng rng(seed, iteration, i);
+    counter_rng rng(seed, iteration, stream);
     auto record = [&](const instance& cand, const placed& g, std::span<const std::uint32_t> with) {
         for (const std::uint32_t j : with) {
             const double q = pair_distance(g, s.geometry()[j]);
@@ -261,38 +315,50 @@ struct move_result {
 
 /// PLACEOPTIM (Algorithm 1) on `s`, appending every scored pair to `database`. The PME never
 /// rises: an iteration that would raise it is undone and ends the optimization.
-[[nodiscard]] inline placement_report place_optimize(pattern_state& s, connection_database& database, const placement_options& opt = {}) {
+template <pattern_space S>
+[[nodiscard]] placement_report place_optimize(S& s, connection_database& database, const placement_options& opt = {}) {
     namespace dp = detail::placement;
     if (opt.candidates < 1 || !(opt.step > 0) || !(opt.step_decay > 0 && opt.step_decay <= 1) || opt.max_iterations < 0)
         throw invalid_input("placement: candidates >= 1, step > 0 and step_decay in (0, 1] are required");
+    using view_type = decltype(s.view(0));
     placement_report rep;
     if (s.size() == 0) return rep;
+    auto size_of = [&](std::size_t i) { return s.classes()[s.instance_at(i).cls].size * s.instance_at(i).scale; };
     double mean_size = 0;
-    for (const instance& in : s.instances()) mean_size += s.classes()[in.cls].size * in.scale;
+    for (std::size_t i = 0; i < s.size(); ++i) mean_size += size_of(i);
     mean_size /= static_cast<double>(s.size());
     double step = opt.step;
     double energy = s.pattern_energy();
     for (int it = 0; it < opt.max_iterations; ++it) {
-        const std::vector<instance> before = s.instances();
+        auto before = s.snapshot();
         const auto adj = s.connectivity();
         const auto sets = dp::independent_sets(adj);
         double moved = 0;
         for (const auto& set : sets) {
             std::vector<dp::move_result> res(set.size());
+            std::vector<std::optional<view_type>> views(set.size());
             parallel_for(0, set.size(), [&](std::size_t k) {
                 const std::size_t i = set[k];
-                const double radius = step * s.classes()[s.instances()[i].cls].size * s.instances()[i].scale;
-                res[k] = dp::stochastic_search(s, i, adj[i], radius, opt.candidates, opt.seed, static_cast<std::uint64_t>(it));
+                views[k].emplace(s.view(i));
+                const auto nbrs = views[k]->to_local(adj[i]);
+                if (!nbrs) return;  // a neighbour outside the picture: i stays
+                res[k] = dp::stochastic_search(views[k]->state(), views[k]->index(), *nbrs, step * size_of(i), opt.candidates, opt.seed,
+                                               static_cast<std::uint64_t>(it), i);
             });
             for (std::size_t k = 0; k < set.size(); ++k) {
                 database.insert(database.end(), res[k].records.begin(), res[k].records.end());
-                if (res[k].moved) s.update(set[k], std::move(res[k].best)), moved += res[k].translation;
+                if (res[k].moved) s.adopt(set[k], *views[k], std::move(res[k].best)), moved += res[k].translation;
             }
+            views.clear();
             if (opt.smooth_connection) {  // SMOOTHCONNECTION (Algorithm 1, line 8), in instance order
                 std::vector<std::optional<instance>> def(set.size());
-                parallel_for(0, set.size(), [&](std::size_t k) { def[k] = opt.smooth_connection(s, set[k]); });
+                std::vector<std::optional<view_type>> fresh(set.size());
+                parallel_for(0, set.size(), [&](std::size_t k) {
+                    fresh[k].emplace(s.view(set[k]));
+                    def[k] = opt.smooth_connection(fresh[k]->state(), fresh[k]->index());
+                });
                 for (std::size_t k = 0; k < set.size(); ++k)
-                    if (def[k]) s.update(set[k], std::move(*def[k])), ++rep.smooth_connections;
+                    if (def[k]) s.adopt(set[k], *fresh[k], std::move(*def[k])), ++rep.smooth_connections;
             }
         }
         // Same-set instances may become neighbours of each other, and deformations change shapes:
@@ -300,7 +366,7 @@ struct move_result {
         const double after = s.pattern_energy();
         ++rep.iterations;
         if (after > energy) {
-            s.set_instances(before);
+            s.restore(std::move(before));
             rep.energy.push_back(energy);
             break;
         }

@@ -99,14 +99,16 @@ namespace detail::synthesis {
 using clock = std::chrono::steady_clock;
 [[nodiscard]] inline double since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
 
-[[nodiscard]] inline double mean_size(const pattern_state& s) {
+template <pattern_space S>
+[[nodiscard]] double mean_size(const S& s) {
     double m = 0;
-    for (const instance& in : s.instances()) m += s.classes()[in.cls].size * in.scale;
+    for (std::size_t i = 0; i < s.size(); ++i) m += s.classes()[s.instance_at(i).cls].size * s.instance_at(i).scale;
     return s.size() ? m / static_cast<double>(s.size()) : 0.0;
 }
 
 // One round: PLACEOPTIM then boosting (Algorithms 1 and 2); returns the translation summed.
-inline double run_round(pattern_state& s, connection_database& D, const synthesis_options& opt, int round, synthesis_result& r) {
+template <pattern_space S, class R>
+double run_round(S& s, connection_database& D, const synthesis_options& opt, int round, R& r) {
     placement_options po = opt.placement;
     po.seed = opt.seed ^ (0x9e3779b97f4a7c15ULL * static_cast<std::uint64_t>(round + 1));
     if (opt.smooth_connection) po.smooth_connection = make_smooth_connection(opt.sigma_d);
@@ -114,7 +116,7 @@ inline double run_round(pattern_state& s, connection_database& D, const synthesi
     const placement_report pr = place_optimize(s, D, po);
     r.seconds.placement += since(t);
     r.smooth_connections += pr.smooth_connections;
-    if (round == 0) r.placed_once = s.instances(), r.energy_after_placement = s.pattern_energy();
+    if (round == 0) r.placed_once = s.snapshot(), r.energy_after_placement = s.pattern_energy();
     t = clock::now();
     boosting_options bo = opt.boosting;
     bo.seed = po.seed + 1;
@@ -132,9 +134,12 @@ inline double run_round(pattern_state& s, connection_database& D, const synthesi
 
 }  // namespace detail::synthesis
 
-/// Runs pattern synthesis on the existing instances of `s` (rounds, duplicates, topology cut);
-/// the moves keep the overlap limits of opt.init (pattern_state::spacing_kept).
-inline void optimize_pattern(pattern_state& s, const synthesis_options& opt, synthesis_result& r) {
+/// The rounds of placement and boosting on the existing instances of `s` (any pattern space) until
+/// the layout stops moving, then the removal of fully overlapped duplicates; the moves keep the
+/// overlap limits of opt.init (pattern_state::spacing_kept). `r` receives the energies, counts and
+/// timings (the fields of synthesis_result of those names; placed_once a snapshot of s).
+template <pattern_space S, class R>
+void optimize_layout(S& s, const synthesis_options& opt, R& r) {
     namespace ds = detail::synthesis;
     connection_database D;
     s.set_spacing(opt.init.max_single_overlap, opt.init.same_class_penalty);  // moves keep §4.1's spacing
@@ -148,6 +153,12 @@ inline void optimize_pattern(pattern_state& s, const synthesis_options& opt, syn
     }
     r.database_size = D.size();
     r.energy_final = s.pattern_energy();
+}
+
+/// Runs pattern synthesis on the existing instances of `s` (optimize_layout, then the topology cut).
+inline void optimize_pattern(pattern_state& s, const synthesis_options& opt, synthesis_result& r) {
+    namespace ds = detail::synthesis;
+    optimize_layout(s, opt, r);
     r.instances = s.instances();
     r.skeletons = world_skeletons(s);
     if (opt.topology_cut) {
