@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <span>
@@ -100,38 +101,57 @@ namespace detail::init {
     return p.covering.back().back();
 }
 
-}  // namespace detail::init
+// Rule checks (1)-(3) and the domain rule for candidate geometry `pc` of class `cls` against the
+// accepted instances `geo` (classes `cls_of`) seen in the same frame; `region`: the domain in that
+// frame (nullptr: the candidate lies wholly in the domain).
+[[nodiscard]] inline bool admissible(const placed& pc, std::uint32_t cls, std::span<const placed> geo, std::span<const std::uint32_t> cls_of,
+                                     const std::vector<polygon_with_holes>* region, const initialization_options& opt) {
+    const auto S = covering_polys(pc);
+    const double aS = area(polygon_union(S, {}));
+    if (!(aS > 0)) return false;
+    std::vector<polygon_with_holes> others;
+    double max_single = 0, union_weighted = 0;
+    bool some_contact = geo.empty();
+    for (std::size_t j = 0; j < geo.size(); ++j) {
+        if (!boxes_meet(pc, geo[j])) continue;
+        const auto Ej = covering_polys(geo[j]);
+        const double a = area(polygon_intersection(S, Ej));
+        if (a <= 0) continue;
+        const double pen = cls_of[j] == cls ? opt.same_class_penalty : 1.0;
+        max_single = std::max(max_single, pen * a / aS);
+        if (a / aS >= opt.min_single_overlap) some_contact = true;
+        others.insert(others.end(), Ej.begin(), Ej.end());
+        union_weighted = std::max(union_weighted, pen);  // the strongest penalty among the overlapped
+    }
+    if (!some_contact || max_single > opt.max_single_overlap) return false;
+    // The part of S inside the domain that nothing covers yet.
+    const auto inside = region ? polygon_intersection(S, *region) : polygon_union(S, {});
+    const auto fresh = others.empty() ? inside : polygon_difference(inside, polygon_union(others, {}));
+    if (area(fresh) < opt.min_new_inside * aS) return false;
+    if (!others.empty()) {
+        const double covered = aS - area(polygon_difference(S, polygon_union(others, {})));
+        if (std::max(1.0, union_weighted) * covered / aS > opt.max_union_overlap) return false;
+    }
+    return true;
+}
 
-/// Distributes instances of `classes` over `domain` (see the file comment). weights: one per class,
-/// finite and >= 0, not all 0. Throws invalid_input for bad weights or
-/// options; no_solution for an element whose covering region (scaled by the field at the domain's
-/// centre) is larger than the domain, or when no element can be placed at all.
-template <control_field F>
-[[nodiscard]] initialization_result initialize(std::span<const element> classes, std::span<const double> weights, const planar_domain& domain,
-                                               const F& field, const initialization_options& opt = {}) {
-    namespace di = detail::init;
-    if (classes.empty()) throw invalid_input("initialization: no element classes");
-    if (weights.size() != classes.size()) throw invalid_input("initialization: one weight per element class is needed");
+// Multi-class draw of §7.3 (see the file comment): the most underfilled class, smaller first on ties.
+struct class_picker {
+    std::span<const element> classes;
+    std::span<const double> weights;
     double wsum = 0;
-    for (double w : weights) {
-        if (!(std::isfinite(w) && w >= 0)) throw invalid_input("initialization: class weights must be finite and >= 0");
-        wsum += w;
-    }
-    if (!(wsum > 0)) throw invalid_input("initialization: at least one class weight must be > 0");
-    if (!(opt.same_class_penalty >= 1)) throw invalid_input("initialization: same_class_penalty must be >= 1");
+    std::vector<std::size_t> count;
 
-    {  // an element whose covering region exceeds the domain cannot be distributed over it
-        const double s0 = field(di::central_point(domain)).scale;
-        for (std::size_t c = 0; c < classes.size(); ++c)
-            if (weights[c] > 0 && classes[c].covering_area * s0 * s0 > domain.area)
-                throw no_solution("initialization: element " + classes[c].name + " (covering " + std::to_string(classes[c].covering_area * s0 * s0) +
-                                  " mm^2) is larger than the domain (" + std::to_string(domain.area) + " mm^2)");
+    class_picker(std::span<const element> c, std::span<const double> w) : classes(c), weights(w), count(c.size(), 0) {
+        if (classes.empty()) throw invalid_input("initialization: no element classes");
+        if (weights.size() != classes.size()) throw invalid_input("initialization: one weight per element class is needed");
+        for (double x : weights) {
+            if (!(std::isfinite(x) && x >= 0)) throw invalid_input("initialization: class weights must be finite and >= 0");
+            wsum += x;
+        }
+        if (!(wsum > 0)) throw invalid_input("initialization: at least one class weight must be > 0");
     }
-    std::vector<placed> geo;
-    std::vector<std::size_t> count(classes.size(), 0);
-    std::uint32_t current = 0;  // class of the candidate being generated
-
-    auto pick_class = [&] {
+    [[nodiscard]] std::uint32_t pick() const {
         std::uint32_t best = UINT32_MAX;
         double best_key = std::numeric_limits<double>::infinity();
         for (std::uint32_t c = 0; c < classes.size(); ++c) {
@@ -142,88 +162,47 @@ template <control_field F>
                 best_key = key, best = c;
         }
         return best;
-    };
+    }
+};
 
-    // Hosts: elements around which candidates are still thrown. One that has produced
-    // attempts_per_host failures in total is exhausted, so the loop keeps exploring the open fronts
-    // (a narrow domain has only a few) and ends when every element is exhausted.
-    std::vector<std::size_t> alive_hosts, host_failures;
-    std::size_t host = SIZE_MAX, first_failures = 0;
-    auto host_failed = [&] {
+// Hosts: elements around which candidates are still thrown. One that has produced
+// attempts_per_host failures in total is exhausted, so the loop keeps exploring the open fronts
+// (a narrow domain has only a few) and ends when every element is exhausted.
+struct host_pool {
+    std::size_t attempts_per_host;
+    std::vector<std::size_t> alive, failures;
+    std::size_t host = SIZE_MAX, first_failures = 0;  // host of the current candidate (SIZE_MAX: the first element)
+
+    explicit host_pool(std::size_t per_host) : attempts_per_host(per_host) {}
+
+    void failed() {
         if (host == SIZE_MAX) {
             ++first_failures;
             return;
         }
-        if (++host_failures[host] < opt.attempts_per_host) return;
-        alive_hosts.erase(std::find(alive_hosts.begin(), alive_hosts.end(), host));
-    };
-    auto generate = [&](counter_rng& rng) -> std::optional<instance> {
-        current = pick_class();
-        host = SIZE_MAX;
-        if (geo.empty()) {  // the first element: the centre, then uniform points of the domain
-            if (first_failures >= opt.attempts_per_host) return std::nullopt;
-            if (first_failures == 0) return make_instance(classes, current, di::central_point(domain), field);
-            const vec2 p = domain.bounds.lo + (domain.bounds.hi - domain.bounds.lo) * vec2(rng.uniform(), rng.uniform());
-            if (!domain.contains(p)) return ++first_failures, std::nullopt;
-            return make_instance(classes, current, p, field);
-        }
-        if (alive_hosts.empty()) return std::nullopt;
-        host = alive_hosts[static_cast<std::size_t>(rng.uniform_int(alive_hosts.size()))];
-        const vec2 b = di::boundary_point(geo[host], rng);
-        const double reach = 0.5 * classes[current].size * field(b).scale * rng.uniform();
-        const double angle = 2 * std::numbers::pi * rng.uniform();
-        const vec2 p = b + reach * vec2(std::cos(angle), std::sin(angle));
-        if (!domain.contains(p)) {
-            host_failed();
-            return std::nullopt;
-        }
-        return make_instance(classes, current, p, field);
-    };
-
-    auto accept_geometry = [&](const instance& cand, std::span<const instance> accepted) {
-        placed pc = place(classes[cand.cls], cand);
-        const auto S = di::covering_polys(pc);
-        const double aS = area(polygon_union(S, {}));
-        if (!(aS > 0)) return false;
-        // The part of S inside the domain that nothing covers yet.
-        std::vector<polygon_with_holes> others;
-        double max_single = 0, union_weighted = 0;
-        bool some_contact = accepted.empty();
-        for (std::size_t j = 0; j < accepted.size(); ++j) {
-            if (!boxes_meet(pc, geo[j])) continue;
-            const auto Ej = di::covering_polys(geo[j]);
-            const double a = area(polygon_intersection(S, Ej));
-            if (a <= 0) continue;
-            const double pen = accepted[j].cls == cand.cls ? opt.same_class_penalty : 1.0;
-            max_single = std::max(max_single, pen * a / aS);
-            if (a / aS >= opt.min_single_overlap) some_contact = true;
-            others.insert(others.end(), Ej.begin(), Ej.end());
-            union_weighted = std::max(union_weighted, pen);  // the strongest penalty among the overlapped
-        }
-        if (!some_contact || max_single > opt.max_single_overlap) return false;
-        const auto inside = polygon_intersection(S, domain.region);
-        const auto fresh = others.empty() ? inside : polygon_difference(inside, polygon_union(others, {}));
-        if (area(fresh) < opt.min_new_inside * aS) return false;
-        if (!others.empty()) {
-            const double covered = aS - area(polygon_difference(S, polygon_union(others, {})));
-            if (std::max(1.0, union_weighted) * covered / aS > opt.max_union_overlap) return false;
-        }
-        geo.push_back(std::move(pc));
-        ++count[cand.cls];
+        if (++failures[host] < attempts_per_host) return;
+        alive.erase(std::find(alive.begin(), alive.end(), host));
+    }
+    void added() { alive.push_back(failures.size()), failures.push_back(0); }
+    // Draws the host of the next candidate; false when every element is exhausted.
+    [[nodiscard]] bool draw(counter_rng& rng) {
+        if (alive.empty()) return false;
+        host = alive[static_cast<std::size_t>(rng.uniform_int(alive.size()))];
         return true;
-    };
+    }
+};
 
-    auto accept = [&](const instance& cand, std::span<const instance> accepted) {
-        const bool ok = accept_geometry(cand, accepted);
-        if (ok) {
-            alive_hosts.push_back(geo.size() - 1);
-            host_failures.push_back(0);
-        } else {
-            host_failed();
-        }
-        return ok;
-    };
+// A candidate position around host covering `host_geo`: a point of its covering boundary, then a
+// uniform direction and a distance up to half the new element's size (at the field's scale there).
+[[nodiscard]] inline vec2 position_near(const placed& host_geo, double class_size, const std::function<double(vec2)>& scale_at, counter_rng& rng) {
+    const vec2 b = boundary_point(host_geo, rng);
+    const double reach = 0.5 * class_size * scale_at(b) * rng.uniform();
+    const double angle = 2 * std::numbers::pi * rng.uniform();
+    return b + reach * vec2(std::cos(angle), std::sin(angle));
+}
 
+// Dart-throwing options of an initialization.
+[[nodiscard]] inline sampling::dart_options dart_options_of(const initialization_options& opt) {
     sampling::dart_options dopt;
     dopt.seed = opt.seed;
     dopt.target = opt.max_elements;
@@ -231,6 +210,66 @@ template <control_field F>
     // Every failure exhausts a host a little: at most attempts_per_host per element, plus the
     // attempts after the last host is exhausted.
     dopt.max_attempts = opt.max_elements * (opt.attempts_per_host + 1) + opt.max_consecutive_rejections;
+    return dopt;
+}
+
+}  // namespace detail::init
+
+/// Distributes instances of `classes` over `domain` (see the file comment). weights: one per class,
+/// finite and >= 0, not all 0. Throws invalid_input for bad weights or
+/// options; no_solution for an element whose covering region (scaled by the field at the domain's
+/// centre) is larger than the domain, or when no element can be placed at all.
+template <control_field F>
+[[nodiscard]] initialization_result initialize(std::span<const element> classes, std::span<const double> weights, const planar_domain& domain,
+                                               const F& field, const initialization_options& opt = {}) {
+    namespace di = detail::init;
+    di::class_picker picker(classes, weights);
+    if (!(opt.same_class_penalty >= 1)) throw invalid_input("initialization: same_class_penalty must be >= 1");
+
+    {  // an element whose covering region exceeds the domain cannot be distributed over it
+        const double s0 = field(di::central_point(domain)).scale;
+        for (std::size_t c = 0; c < classes.size(); ++c)
+            if (weights[c] > 0 && classes[c].covering_area * s0 * s0 > domain.area)
+                throw no_solution("initialization: element " + classes[c].name + " (covering " + std::to_string(classes[c].covering_area * s0 * s0) +
+                                  " mm^2) is larger than the domain (" + std::to_string(domain.area) + " mm^2)");
+    }
+    std::vector<placed> geo;
+    std::vector<std::uint32_t> geo_cls;
+    di::host_pool hosts(opt.attempts_per_host);
+    const std::function<double(vec2)> scale_at = [&](vec2 p) { return field(p).scale; };
+
+    auto generate = [&](counter_rng& rng) -> std::optional<instance> {
+        const std::uint32_t current = picker.pick();
+        hosts.host = SIZE_MAX;
+        if (geo.empty()) {  // the first element: the centre, then uniform points of the domain
+            if (hosts.first_failures >= opt.attempts_per_host) return std::nullopt;
+            if (hosts.first_failures == 0) return make_instance(classes, current, di::central_point(domain), field);
+            const vec2 p = domain.bounds.lo + (domain.bounds.hi - domain.bounds.lo) * vec2(rng.uniform(), rng.uniform());
+            if (!domain.contains(p)) return ++hosts.first_failures, std::nullopt;
+            return make_instance(classes, current, p, field);
+        }
+        if (!hosts.draw(rng)) return std::nullopt;
+        const vec2 p = di::position_near(geo[hosts.host], classes[current].size, scale_at, rng);
+        if (!domain.contains(p)) {
+            hosts.failed();
+            return std::nullopt;
+        }
+        return make_instance(classes, current, p, field);
+    };
+
+    auto accept = [&](const instance& cand, std::span<const instance>) {
+        placed pc = place(classes[cand.cls], cand);
+        if (!di::admissible(pc, cand.cls, geo, geo_cls, &domain.region, opt)) {
+            hosts.failed();
+            return false;
+        }
+        geo.push_back(std::move(pc)), geo_cls.push_back(cand.cls);
+        ++picker.count[cand.cls];
+        hosts.added();
+        return true;
+    };
+
+    const sampling::dart_options dopt = di::dart_options_of(opt);
     auto r = sampling::dart_throwing(generate, accept, dopt);
     if (r.accepted.empty()) throw no_solution("initialization: no element fits in the domain (is an element larger than the domain?)");
 

@@ -161,6 +161,8 @@ public:
         const auto& c = mesh_->faces[s.face];
         return s.bary.x * values_[c[0]] + s.bary.y * values_[c[1]] + s.bary.z * values_[c[2]];
     }
+    /// The largest factor anywhere (a vertex value: the blend is convex).
+    [[nodiscard]] double max() const { return values_.empty() ? 1.0 : *std::max_element(values_.begin(), values_.end()); }
 
 private:
     const triangle_mesh* mesh_ = nullptr;
