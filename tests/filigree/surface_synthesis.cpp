@@ -141,7 +141,7 @@ TEST_CASE("surface layout optimization on a flat square follows the 2D path (sam
 }
 
 TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, PME not above its start, same for 1 and 2 threads",
-          "[filigree][surface]") {
+          "[filigree][surface][slow]") {
     const std::vector<element> cls{load_element("s_curl", 14)};
     const std::vector<double> w{1.0};
     const surface_setup band(fabsynth::test::cylinder(25, 50, 64, 2.5), {0, 0, 1});

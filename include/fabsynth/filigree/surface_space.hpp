@@ -23,7 +23,9 @@
 /// another instance j enters it at the (u, v) of its reference point, turned by the field
 /// direction at j carried into the map by the affine map of j's face. On a plane the map is an
 /// isometry, so a picture is the planar pattern translated: the surface path and the 2D path agree
-/// up to rounding. Elsewhere elements are rigid in the picture of the instance being moved
+/// up to rounding, except near the domain boundary, whose samples (Theta) and skeleton (boundary
+/// contacts) are taken along the mesh's border edges in a picture and along the domain's rings in
+/// the plane. Elsewhere elements are rigid in the picture of the instance being moved
 /// (the paper's approximation; the map's distortion grows with the distance from i).
 ///
 /// Pictures reach `view_reach` = 1.25 x i's covering reach + 2 x the largest covering reach (at
