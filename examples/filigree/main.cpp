@@ -4,6 +4,9 @@
 //   filigree --element E.svg [--element E2.svg[:WEIGHT] ...] (--rect W H | --domain D.svg)
 //            --scale MM --width MM [--rotation DEG | --field-image F.png --field-scale S0 S1]
 //            [--thickness MM] [--material abs|pla] [--no-structure] [--seed S] -o OUT.svg
+//   filigree --element E.svg ... --mesh M.obj [--mesh-size MM] [--region FACES.txt] [--up X Y Z]
+//            [--field-scale-file F.txt] --scale MM --width MM [--thickness MM] [--seed S] -o OUT.stl
+//            (on a base surface: on_surface.hpp; OUT.stl, OUT.obj, OUT.png, OUT.json)
 //
 // Pipeline (include/fabsynth/filigree/): elements (element.hpp) -> initialization (§4.1) ->
 // rounds of placement optimization with smooth connections and boosting (§4.3, §4.4) -> topology
@@ -35,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "on_surface.hpp"
 #include "output_set.hpp"
 #include "tool.hpp"
 
@@ -83,6 +87,62 @@ image8 steps_image(const std::vector<std::vector<polygon_with_holes>>& panels, c
 
 }  // namespace
 
+// The --mesh form (on_surface.hpp): elements read as in the 2D form, the rest on the surface.
+template <class Progress>
+void run_surface_mode(const filigree_tool::surface_request& rq, const std::vector<std::string>& element_args, double scale, double width,
+                      reinforcement_options ro, double tolerance, double sigma_d, double sigma_f, int rounds, double max_elements,
+                      const std::string& out_path, tool::common& common, Progress& progress) {
+    const double thickness = ro.thickness;
+    const std::uint64_t seed = ro.seed;
+    std::vector<element_arg> elements;
+    for (const std::string& a : element_args) elements.push_back(parse_element(a));
+    std::vector<fs::path> inputs{rq.mesh};
+    for (const auto& e : elements) inputs.emplace_back(e.path);
+    if (!rq.region.empty()) inputs.emplace_back(rq.region);
+    if (!rq.scale_file.empty()) inputs.emplace_back(rq.scale_file);
+    const fs::path out(out_path);
+    std::vector<fs::path> outs;
+    for (const char* ext : {".stl", ".obj", ".png", ".json"}) outs.push_back(fs::path(out).replace_extension(ext));
+    tool::check_outputs(inputs, outs);
+    for (const auto& e : elements)
+        if (!fs::is_regular_file(e.path)) throw io_error(e.path, 0, "no such element file");
+    tool::require_range(scale, 0.1, 1e4, "--scale", "mm");
+    tool::require_range(width, 1e-3, scale, "--width", "mm (at most --scale)");
+    tool::require_range(thickness, 1e-2, 1e3, "--thickness", "mm");
+    tool::require_range(tolerance, 1e-4, scale, "--tolerance", "mm");
+    tool::require_range(sigma_d, 1e-3, 1.0, "--sigma-d", "");
+    tool::require_range(sigma_f, 1e-4, 1.0, "--sigma-f", "");
+    tool::require_range(max_elements, 1, 1e6, "--max-elements", "");
+    if (rounds < 1 || rounds > 100) throw invalid_input("--rounds must be in [1, 100]");
+    if (rq.mesh_size != 0) tool::require_range(rq.mesh_size, 1e-2, 1e5, "--mesh-size", "mm");
+    for (const double x : rq.up)
+        if (!std::isfinite(x)) throw invalid_input("--up must be finite");
+    std::vector<element> classes;
+    std::vector<double> weights;
+    for (const auto& a : elements) {
+        element_options eo;
+        eo.size_mm = scale, eo.width_mm = width, eo.tolerance_mm = tolerance, eo.name = a.path;
+        classes.push_back(element_from_svg(io::read_svg(a.path, std::min(0.01, tolerance / 4)), eo));
+        weights.push_back(a.weight);
+    }
+    if (std::all_of(weights.begin(), weights.end(), [](double w) { return w <= 0; })) throw invalid_input("--element: every class has weight 0");
+    synthesis_options so;
+    so.seed = seed, so.sigma_d = sigma_d, so.sigma_f = sigma_f, so.max_rounds = rounds;
+    so.init.max_elements = static_cast<std::size_t>(max_elements);
+    tool::output_set outputs;
+    if (!(std::isfinite(ro.pressure_pa) && ro.pressure_pa >= 0)) throw invalid_input("--pressure must be finite and >= 0 Pa");
+    const nlohmann::ordered_json report = filigree_tool::run_on_surface(rq, classes, weights, so, ro, max_elements, out, outputs, progress);
+    outputs.commit();
+    progress(1.0, "write");
+    char line[400];
+    std::snprintf(line, sizeof line, "%s: %zu instances on the surface, %d rounds, PME %.1f -> %.1f, thickness %.3g mm, %zu solid triangles",
+                  fs::path(out).replace_extension(".stl").string().c_str(), report["instances_final"].template get<std::size_t>(),
+                  report["rounds"].template get<int>(), report["pme"]["initial"].template get<double>(), report["pme"]["final"].template get<double>(),
+                  report["thickness_mm"].template get<double>(), report["stl_triangles"].template get<std::size_t>());
+    common.say(line);
+    common.summary(report);
+}
+
 int main(int argc, char** argv) {
     CLI::App app{
         "filigree: synthesis of filigrees (Chen et al. 2016) in a rectangle or an SVG domain.\n"
@@ -123,9 +183,23 @@ int main(int argc, char** argv) {
     app.add_option("--tolerance", tolerance, "polygonal approximation of the element skeletons, mm")->capture_default_str();
     app.add_option("--max-elements", max_elements, "refuse domains estimated to need more element instances than this")->capture_default_str();
     app.add_option("-o,--output", out_path, "output SVG; OUT.stl, OUT.png, OUT_steps.png and OUT.json are written beside it")->required();
+    filigree_tool::surface_request on_mesh;
+    auto* o_mesh = app.add_option("--mesh", on_mesh.mesh, "base surface (OBJ, STL, PLY, 3MF): synthesize on it instead of a 2D domain")
+                       ->check(CLI::ExistingFile);
+    app.add_option("--mesh-size", on_mesh.mesh_size, "scale the base mesh so its bounding box's largest side is this many mm (default: as is, mm)");
+    app.add_option("--region", on_mesh.region, "text file of face ids (0-based) of the base mesh to cover (default: all)")->check(CLI::ExistingFile);
+    app.add_option("--up", on_mesh.up, "X Y Z: the elements' up vector, projected onto the surface (default 0 0 1)")->expected(3);
+    app.add_option("--field-scale-file", on_mesh.scale_file, "text file of one element scale factor per mesh vertex")->check(CLI::ExistingFile);
+    o_mesh->excludes(o_rect)->excludes(o_domain)->excludes(o_fimg)->excludes(o_rot);
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
+        if (!on_mesh.mesh.empty()) {
+            reinforcement_options ro;
+            ro.material = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
+            ro.thickness = thickness, ro.pressure_pa = pressure, ro.enabled = !no_structure, ro.seed = seed;
+            return run_surface_mode(on_mesh, element_args, scale, width, ro, tolerance, sigma_d, sigma_f, rounds, max_elements, out_path, common, progress);
+        }
         const auto t_start = std::chrono::steady_clock::now();
         const fs::path svg_out(out_path);
         fs::path stl_out = svg_out, png_out = svg_out, json_out = svg_out;

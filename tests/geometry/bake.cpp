@@ -70,6 +70,58 @@ TEST_CASE("bake: areas and boundaries of baked contours equal their closed forms
     }
 }
 
+TEST_CASE("bake_per_face: contours given per face, twice over, give the closed-form areas and boundaries (no cracks)", "[geometry][bake]") {
+    const int n = 10;
+    const triangle_mesh m = test::plane_grid(n, 1.0, 1, 0.0);  // [0, 10]^2
+    const int sides = 48;
+    const double r = 2.7;
+    ring2 disk;
+    for (int k = 0; k < sides; ++k) disk.push_back(vec2(3.5, 3.5) + r * vec2(std::cos(2 * std::numbers::pi * k / sides), std::sin(2 * std::numbers::pi * k / sides)));
+    const polygon_with_holes out_of_mesh{{{8.5, 0.5}, {12.0, 0.5}, {12.0, 2.0}, {8.5, 2.0}}, {}};
+    // the ring given as two overlapping halves (the union per face must join them)
+    const polygon_with_holes ring_left{{{6.5, 5.5}, {8.2, 5.5}, {8.2, 6.5}, {7.3, 6.5}, {7.3, 8.5}, {8.2, 8.5}, {8.2, 9.5}, {6.5, 9.5}}, {}};
+    const polygon_with_holes ring_right{{{7.9, 5.5}, {9.5, 5.5}, {9.5, 9.5}, {7.9, 9.5}, {7.9, 8.5}, {8.7, 8.5}, {8.7, 6.5}, {7.9, 6.5}}, {}};
+    const double disk_area = 0.5 * sides * r * r * std::sin(2 * std::numbers::pi / sides), disk_perimeter = sides * 2 * r * std::sin(std::numbers::pi / sides);
+    const double exact_area = disk_area + (12.0 - 1.4 * 2.0) + 1.5 * 1.5;
+    const double exact_boundary = disk_perimeter + 14.0 + 6.8 + 6.0;
+
+    for (const bool tilted : {false, true}) {
+        INFO((tilted ? "tilted" : "flat"));
+        auto place = [&](vec2 q) {  // the chart point on the (tilted) plane
+            return tilted ? vec3(q.x, std::cos(0.6) * q.y - std::sin(0.6) * 5.0, std::sin(0.6) * q.y + 7.0) : vec3(q.x, q.y, 0.0);
+        };
+        triangle_mesh base = m;
+        for (vec3& v : base.vertices) v = place({v.x, v.y});
+        std::vector<face_contours> per_face;
+        for (std::uint32_t f = 0; f < base.num_faces(); ++f) {
+            const face_frame fr = face_frame::of(base, f);
+            auto carry = [&](const polygon_with_holes& p) {
+                polygon_with_holes o;
+                for (const vec2& q : p.outer) o.outer.push_back(fr.to_2d(place(q)));
+                for (const ring2& h : p.holes) {
+                    o.holes.emplace_back();
+                    for (const vec2& q : h) o.holes.back().push_back(fr.to_2d(place(q)));
+                }
+                return o;
+            };
+            per_face.push_back({f, {carry({disk, {}}), carry(ring_left)}});
+            per_face.push_back({f, {carry({disk, {}}), carry(ring_right), carry(out_of_mesh)}});
+        }
+        const triangle_mesh mb = bake_per_face(base, per_face);
+        CHECK(mesh_area(mb) == Approx(exact_area).epsilon(1e-9));
+        CHECK(boundary_length(mb) == Approx(exact_boundary).epsilon(1e-9));
+        const auto t = analyze_topology(mb);
+        CHECK(t.nonmanifold_edges == 0);
+        std::size_t parts = 0;
+        (void)face_components(mb, &parts);
+        CHECK(parts == 3);
+        for (const auto& f : mb.faces) {  // oriented as the base faces
+            const vec3 nrm = glm::cross(mb.vertices[f[1]] - mb.vertices[f[0]], mb.vertices[f[2]] - mb.vertices[f[0]]);
+            CHECK(glm::dot(nrm, glm::cross(base.vertices[1] - base.vertices[0], base.vertices[n + 2] - base.vertices[0])) > 0);
+        }
+    }
+}
+
 TEST_CASE("bake: nothing to bake, bad input", "[geometry][bake]") {
     const triangle_mesh m = test::plane_grid(2, 1.0, 1, 0.0);
     std::vector<vec2> uv;

@@ -166,22 +166,6 @@ inline std::vector<ring2> skeleton_rings(const graph::skeleton_graph<vec2>& s, d
     return rings;
 }
 
-/// Drops every vertex closer than `spacing` to the previous kept vertex of its ring, then unites
-/// again (a merge may touch a neighbour in a narrow gap). Removes the tiny edges Clipper leaves
-/// where two arcs cross next to a vertex; each merge moves the outline by < spacing.
-inline std::vector<polygon_with_holes> merge_close_vertices(const std::vector<polygon_with_holes>& polys, double spacing) {
-    std::vector<ring2> rings;
-    for (const ring2& r : to_rings(polys)) {
-        ring2 kept;
-        for (const vec2& p : r)
-            if (kept.empty() || glm::distance(p, kept.back()) >= spacing) kept.push_back(p);
-        while (kept.size() > 1 && glm::distance(kept.back(), kept.front()) < spacing) kept.pop_back();
-        if (kept.size() >= 3 && std::abs(signed_area(kept)) > spacing * spacing) rings.push_back(std::move(kept));
-    }
-    if (rings.empty()) return {};
-    return polygon_union(rings, fill_rule::nonzero);
-}
-
 }  // namespace detail::strips
 
 namespace detail {
@@ -216,7 +200,7 @@ inline std::vector<polygon_with_holes> normalized_outline(const std::vector<poly
     }
     if (rings.empty()) return {};
     // stroke_outline's holes are clockwise and hulls counter-clockwise: the nonzero fill is the union
-    return detail::strips::merge_close_vertices(polygon_union(rings, fill_rule::nonzero), arc_tolerance);
+    return merge_close_vertices(polygon_union(rings, fill_rule::nonzero), arc_tolerance);
 }
 
 /// strip_outline(skeletons, arc_tolerance) intersected with `domain` (polygons with holes, mm;
@@ -226,7 +210,7 @@ inline std::vector<polygon_with_holes> normalized_outline(const std::vector<poly
                                                                    double arc_tolerance = 0.01) {
     const std::vector<polygon_with_holes> strips = strip_outline(skeletons, arc_tolerance);
     if (strips.empty() || domain.empty()) return {};
-    return detail::strips::merge_close_vertices(polygon_intersection(strips, domain), arc_tolerance);
+    return merge_close_vertices(polygon_intersection(strips, domain), arc_tolerance);
 }
 
 /// The outline with vertices closer than `spacing` (mm) merged, the polygons united again: the
@@ -234,7 +218,7 @@ inline std::vector<polygon_with_holes> normalized_outline(const std::vector<poly
 /// slivers (a sliver's drilling stiffness vanishes with its area, so the shell system turns singular).
 [[nodiscard]] inline std::vector<polygon_with_holes> coarsened_outline(const std::vector<polygon_with_holes>& outline, double spacing) {
     require_positive(spacing, "coarsened_outline: spacing (mm)");
-    return detail::strips::merge_close_vertices(outline, spacing);
+    return merge_close_vertices(outline, spacing);
 }
 
 /// The outline with its pinches bridged: wherever two boundary vertices that are not neighbours

@@ -164,13 +164,14 @@ struct structural_report {
 
 /// The load case of the file comment on model m: all six DOFs of `supports` fixed, gravity and
 /// pressure on every element.
+/// `down`: the unit direction gravity acts in (-z for the flat piece; -up on a base surface).
 [[nodiscard]] inline fem::load_case structural_load_case(const fem::mesh& m, std::span<const std::uint32_t> supports,
-                                                         const structure_options& opt) {
+                                                         const structure_options& opt, vec3 down = {0, 0, -1}) {
     fem::load_case lc;
     for (std::uint32_t n : supports)
         for (int d = 0; d < 6; ++d) lc.fixed.push_back({n, d});
     for (std::uint32_t e = 0; e < m.elements.size(); ++e) {
-        if (opt.gravity_m_s2 != 0.0) lc.gravity.push_back({e, vec3(0.0, 0.0, -opt.gravity_m_s2 * 1e3)});  // m/s^2 -> mm/s^2
+        if (opt.gravity_m_s2 != 0.0) lc.gravity.push_back({e, down * (opt.gravity_m_s2 * 1e3)});  // m/s^2 -> mm/s^2
         if (opt.pressure_pa != 0.0) lc.pressures.push_back({e, opt.pressure_pa * 1e-6});                    // Pa -> MPa, +p pushes -z
     }
     return lc;
@@ -238,13 +239,13 @@ inline fem::static_result solve_checked(const fem::mesh& m, const fem::load_case
 }
 
 /// Node statistics of a solved model (weak nodes, histogram, maxima, reactions).
-inline structural_report summarize(const fem_triangulation& tri, const fem::mesh& m, const fem::static_result& r, double thickness,
+inline structural_report summarize(std::vector<vec2> positions, const fem::mesh& m, const fem::static_result& r, double thickness,
                                    std::vector<std::uint32_t> supports, const structure_options& opt) {
     structural_report rep;
     rep.thickness = thickness;
     rep.yield = opt.material.yield_mpa;
     rep.solver = r.solver;
-    rep.node_positions = tri.mesh.vertices;
+    rep.node_positions = std::move(positions);
     rep.node_von_mises = fem::nodal_von_mises(m, r);
     const double bin = opt.histogram_bin_mpa;
     const auto closed_bins = static_cast<std::size_t>(std::ceil(2.0 * rep.yield / bin));
@@ -281,39 +282,38 @@ inline structural_report summarize(const fem_triangulation& tri, const fem::mesh
     std::vector<std::uint32_t> supports = support_nodes(tri, opt);
     const fem::load_case lc = structural_load_case(m, supports, opt);
     const fem::static_result r = detail::structure::solve_checked(m, lc, opt.solver);
-    return detail::structure::summarize(tri, m, r, thickness, std::move(supports), opt);
+    return detail::structure::summarize(tri.mesh.vertices, m, r, thickness, std::move(supports), opt);
 }
 
-/// Phase 1 of §5: the weak nodes grouped by single linkage (two weak nodes within cluster_radius
-/// [mm] are in one group), and each group's centroid [mm], where the caller inserts new pattern
-/// elements. Groups are ordered by their smallest node index. Throws invalid_input unless the
-/// radius is finite and > 0. O(W) expected for W weak nodes (uniform grid of cell cluster_radius).
-[[nodiscard]] inline std::vector<vec2> weak_region_centres(const structural_report& rep, double cluster_radius) {
-    require_positive(cluster_radius, "weak_region_centres: cluster radius (mm)");
-    const std::size_t n = rep.weak_nodes.size();
-    std::vector<vec2> p(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        if (rep.weak_nodes[i] >= rep.node_positions.size()) throw invalid_input("weak_region_centres: a weak node has no position");
-        p[i] = rep.node_positions[rep.weak_nodes[i]];
-    }
+/// The centroids of the groups of points[ids] linked by single linkage at `radius` [mm] (groups in
+/// order of their first id; 2D or 3D points). Throws invalid_input unless the radius is finite and > 0.
+template <class P>
+[[nodiscard]] std::vector<P> cluster_centres(std::span<const P> points, std::span<const std::uint32_t> ids, double radius) {
+    require_positive(radius, "weak_region_centres: cluster radius (mm)");
+    const std::size_t n = ids.size();
+    std::vector<P> p(n);
+    for (std::size_t i = 0; i < n; ++i) p[i] = points[ids[i]];
     union_find groups(n);
-    std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::uint32_t>> cells;
-    auto cell_of = [&](vec2 q) {
-        return std::pair{static_cast<std::int64_t>(std::floor(q.x / cluster_radius)), static_cast<std::int64_t>(std::floor(q.y / cluster_radius))};
+    std::map<std::array<std::int64_t, 3>, std::vector<std::uint32_t>> cells;
+    auto cell_of = [&](const P& q) {
+        std::array<std::int64_t, 3> c{0, 0, 0};
+        for (int d = 0; d < P::length(); ++d) c[static_cast<std::size_t>(d)] = static_cast<std::int64_t>(std::floor(q[d] / radius));
+        return c;
     };
     for (std::uint32_t i = 0; i < n; ++i) {
-        const auto [cx, cy] = cell_of(p[i]);
-        for (std::int64_t dy = -1; dy <= 1; ++dy)
-            for (std::int64_t dx = -1; dx <= 1; ++dx) {
-                const auto it = cells.find({cx + dx, cy + dy});
-                if (it == cells.end()) continue;
-                for (std::uint32_t j : it->second)
-                    if (glm::length(p[i] - p[j]) <= cluster_radius) groups.unite(i, j);
-            }
-        cells[{cx, cy}].push_back(i);
+        const auto c = cell_of(p[i]);
+        for (std::int64_t dz = (P::length() == 3 ? -1 : 0); dz <= (P::length() == 3 ? 1 : 0); ++dz)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                    const auto it = cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
+                    if (it == cells.end()) continue;
+                    for (std::uint32_t j : it->second)
+                        if (glm::length(p[i] - p[j]) <= radius) groups.unite(i, j);
+                }
+        cells[c].push_back(i);
     }
     std::vector<std::uint32_t> slot(n, 0xffffffffu);
-    std::vector<vec2> sum;
+    std::vector<P> sum;
     std::vector<double> count;
     for (std::uint32_t i = 0; i < n; ++i) {
         const std::uint32_t root = groups.find(i);  // the smallest index of its group (union_find.hpp)
@@ -323,6 +323,16 @@ inline structural_report summarize(const fem_triangulation& tri, const fem::mesh
     }
     for (std::size_t g = 0; g < sum.size(); ++g) sum[g] /= count[g];
     return sum;
+}
+
+/// Phase 1 of §5: the weak nodes grouped by single linkage (two weak nodes within cluster_radius
+/// [mm] are in one group), and each group's centroid [mm], where the caller inserts new pattern
+/// elements. Groups are ordered by their smallest node index. Throws invalid_input unless the
+/// radius is finite and > 0. O(W) expected for W weak nodes (uniform grid of cell cluster_radius).
+[[nodiscard]] inline std::vector<vec2> weak_region_centres(const structural_report& rep, double cluster_radius) {
+    for (const std::uint32_t w : rep.weak_nodes)
+        if (w >= rep.node_positions.size()) throw invalid_input("weak_region_centres: a weak node has no position");
+    return cluster_centres<vec2>(rep.node_positions, rep.weak_nodes, cluster_radius);
 }
 
 /// Parameters of phase 2.
@@ -342,18 +352,16 @@ struct thickening_result {
     structural_report report;                   ///< the last analysis
 };
 
-/// Phase 2 of §5: analyses at t0, and while weak nodes remain multiplies the thickness by
-/// opt.growth (t_k = t0 * growth^k, computed by a power, so no drift) and analyses again, at most
-/// opt.max_iterations times. Throws what analyse_structure throws, and invalid_input for bad options.
-[[nodiscard]] inline thickening_result thicken_until_strong(const fem_triangulation& tri, double thickness, const structure_options& opt = {},
-                                                            const thickening_options& topt = {}) {
+/// Phase 2 with any analysis: analyse(t) -> structural_report at thickness t [mm].
+template <class Analyse>
+[[nodiscard]] thickening_result thicken_with(Analyse&& analyse, double thickness, const thickening_options& topt) {
     require_positive(thickness, "thicken_until_strong: thickness (mm)");
     if (!(std::isfinite(topt.growth) && topt.growth > 1.0)) throw invalid_input("thicken_until_strong: growth must be finite and > 1");
     if (topt.max_iterations < 0) throw invalid_input("thicken_until_strong: max_iterations must be >= 0");
     thickening_result out;
     for (int k = 0;; ++k) {
         const double t = thickness * std::pow(topt.growth, k);
-        out.report = analyse_structure(tri, t, opt);
+        out.report = analyse(t);
         out.thickness = t;
         out.iterations = k;
         out.thickness_history.push_back(t);
@@ -365,6 +373,14 @@ struct thickening_result {
         }
         if (k == topt.max_iterations) return out;
     }
+}
+
+/// Phase 2 of §5: analyses at t0, and while weak nodes remain multiplies the thickness by
+/// opt.growth (t_k = t0 * growth^k, computed by a power, so no drift) and analyses again, at most
+/// opt.max_iterations times. Throws what analyse_structure throws, and invalid_input for bad options.
+[[nodiscard]] inline thickening_result thicken_until_strong(const fem_triangulation& tri, double thickness, const structure_options& opt = {},
+                                                            const thickening_options& topt = {}) {
+    return thicken_with([&](double t) { return analyse_structure(tri, t, opt); }, thickness, topt);
 }
 
 }  // namespace fabsynth::filigree

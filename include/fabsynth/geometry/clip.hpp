@@ -259,6 +259,25 @@ inline std::vector<polygon_with_holes> binary(clip_op op, const std::vector<poly
     return out;
 }
 
+/// Drops every vertex closer than `spacing` to the previous kept vertex of its ring, then unites
+/// again (a merge may touch a neighbour in a narrow gap). Removes the tiny edges Clipper leaves
+/// where two arcs cross next to a vertex, and the notches of one grid unit a boolean can leave, which
+/// stop an ear clipper; each merge moves the outline by < spacing. Rings of area <= spacing^2 go.
+[[nodiscard]] inline std::vector<polygon_with_holes> merge_close_vertices(const std::vector<polygon_with_holes>& polys, double spacing,
+                                                                        std::optional<clip_grid> grid = std::nullopt) {
+    std::vector<ring2> rings;
+    for (const ring2& r : to_rings(polys)) {
+        ring2 kept;
+        for (const vec2& p : r)
+            if (kept.empty() || glm::distance(p, kept.back()) >= spacing) kept.push_back(p);
+        while (kept.size() > 1 && glm::distance(kept.back(), kept.front()) < spacing) kept.pop_back();
+        if (kept.size() >= 3 && std::abs(signed_area(kept)) > spacing * spacing) rings.push_back(std::move(kept));
+    }
+    if (rings.empty()) return {};
+    return polygon_union(rings, fill_rule::nonzero, grid);
+}
+
+
 /// `polys` grown (delta > 0) or shrunk (delta < 0) by |delta| mm with round joins (Clipper's
 /// closed-polygon offset), arcs flattened to `arc_tolerance` (mm, > 0). Shrinking then growing by
 /// the same amount (an opening) removes necks narrower than 2 |delta| and point contacts between

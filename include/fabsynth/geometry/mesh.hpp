@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "fabsynth/core/box.hpp"
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
+#include "fabsynth/core/union_find.hpp"
 
 namespace fabsynth {
 
@@ -121,6 +123,44 @@ inline void fit_to_size(triangle_mesh& m, double size) {
     if (!(longest > 0)) throw invalid_input("cannot scale a mesh without extent to a size");
     const double s = size / longest;
     for (vec3& v : m.vertices) v = (v - bb.lo) * s;
+}
+
+/// Vertex clustering: vertices closer than `tolerance` mm are one (single linkage through a grid of
+/// cell `tolerance`; a cluster takes the position of its lowest vertex id), faces are renumbered,
+/// faces whose corners merged are dropped, unused vertices removed. For meshes whose booleans left
+/// edges far shorter than any feature (a baked filigree before shell analysis). Deterministic.
+[[nodiscard]] inline triangle_mesh cluster_vertices(const triangle_mesh& m, double tolerance) {
+    if (!(std::isfinite(tolerance) && tolerance > 0)) throw invalid_input("cluster_vertices: tolerance must be finite and > 0 mm");
+    union_find groups(m.vertices.size());
+    std::map<std::array<std::int64_t, 3>, std::vector<std::uint32_t>> cells;
+    auto cell_of = [&](const vec3& p) {
+        return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p.x / tolerance)), static_cast<std::int64_t>(std::floor(p.y / tolerance)),
+                                           static_cast<std::int64_t>(std::floor(p.z / tolerance))};
+    };
+    for (std::uint32_t v = 0; v < m.vertices.size(); ++v) {
+        const auto c = cell_of(m.vertices[v]);
+        for (std::int64_t dz = -1; dz <= 1; ++dz)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                    const auto it = cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
+                    if (it == cells.end()) continue;
+                    for (const std::uint32_t w : it->second)
+                        if (glm::distance(m.vertices[v], m.vertices[w]) < tolerance) groups.unite(v, w);
+                }
+        cells[c].push_back(v);
+    }
+    triangle_mesh out;
+    std::vector<std::uint32_t> id(m.vertices.size(), UINT32_MAX);
+    for (const auto& f : m.faces) {
+        std::array<std::uint32_t, 3> r{groups.find(f[0]), groups.find(f[1]), groups.find(f[2])};  // the lowest id of each cluster
+        if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) continue;
+        for (std::uint32_t& v : r) {
+            if (id[v] == UINT32_MAX) id[v] = static_cast<std::uint32_t>(out.vertices.size()), out.vertices.push_back(m.vertices[v]);
+            v = id[v];
+        }
+        out.faces.push_back(r);
+    }
+    return out;
 }
 
 }  // namespace fabsynth
