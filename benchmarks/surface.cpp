@@ -4,14 +4,21 @@
 // (filigree-synthesis.md §8.1 computes matching, overlap and deformation on such patches; Table 3
 // finds them the dominant 3D cost). The printable solid of §6.2 (geometry/surface_offset.hpp): an
 // open cylinder band (a vase wall, r 30 mm, 60 mm high, 0.5 mm edges) thickened to 1.2 mm.
+// Filigree synthesis on surfaces (filigree-synthesis.md Table 3): the bundled vase (scripts/make_vase.py,
+// 6.0 k vertices) and the bunny (36 k vertices, 100 mm), c_scroll elements of 14 / 16 mm, 0.8 mm strips:
+// synthesis (initialization, placement, boosting through local parameterizations), then baking and
+// the structural optimization of §5; counters give the instances and the time spent building maps.
 //   bench_surface --benchmark_filter=Patch
 #include <benchmark/benchmark.h>
 
 #include <fabsynth/core/rng.hpp>
+#include <fabsynth/filigree/surface_structure.hpp>
+#include <fabsynth/io/svg.hpp>
 #include <fabsynth/geometry/exponential_map.hpp>
 #include <fabsynth/geometry/surface_offset.hpp>
 #include <fabsynth/io/mesh.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -72,5 +79,44 @@ void BM_ThickenSurface(benchmark::State& state) {
     state.counters["solid_faces"] = static_cast<double>(tris);
 }
 BENCHMARK(BM_ThickenSurface)->Arg(30)->Arg(15)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_FiligreeOnSurface(benchmark::State& state) {
+    const bool on_bunny = state.range(0) == 1;
+    const triangle_mesh& base = on_bunny ? bunny() : [] () -> const triangle_mesh& {
+        static const triangle_mesh v = io::read_mesh(std::string(FABSYNTH_DATA_DIR) + "/meshes/vase.obj");
+        return v;
+    }();
+    filigree::element_options eo;
+    eo.size_mm = on_bunny ? 16 : 14, eo.width_mm = 0.8, eo.name = "c_scroll";
+    const std::vector<filigree::element> cls{
+        filigree::element_from_svg(io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/filigree/c_scroll.svg", 0.01), eo)};
+    const std::vector<double> w{1.0};
+    const surface_patcher patcher(base);
+    const auto region = filigree::surface_region::whole(patcher);
+    const vec3 up = on_bunny ? vec3(0, 1, 0) : vec3(0, 0, 1);
+    const auto direction = filigree::surface_direction_field::from_up_vector(patcher, up);
+    const auto scale = filigree::surface_scale_field::constant(base, 1.0);
+    const filigree::surface_control field{&direction, &scale};
+    filigree::synthesis_options so;
+    filigree::surface_synthesis_result syn;
+    double synthesis = 0, structure = 0;
+    for (auto _ : state) {
+        auto t = std::chrono::steady_clock::now();
+        syn = filigree::synthesize_on_surface(cls, w, region, field, so);
+        synthesis = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+        t = std::chrono::steady_clock::now();
+        filigree::surface_reinforcement_options ro;
+        ro.up = up;
+        benchmark::DoNotOptimize(filigree::reinforce_on_surface(cls, w, region, field, so, syn, ro));
+        structure = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    }
+    state.counters["vertices"] = static_cast<double>(base.num_vertices());
+    state.counters["instances"] = static_cast<double>(syn.instances.size());
+    state.counters["synthesis_s"] = synthesis;
+    state.counters["structure_s"] = structure;
+    state.counters["maps"] = static_cast<double>(syn.maps_built);
+    state.counters["map_s_summed"] = syn.map_seconds;
+}
+BENCHMARK(BM_FiligreeOnSurface)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace

@@ -87,6 +87,17 @@ image8 steps_image(const std::vector<std::vector<polygon_with_holes>>& panels, c
 
 }  // namespace
 
+// The element classes of --element arguments (scaled to `scale` mm, strips `width` mm wide).
+void load_classes(const std::vector<element_arg>& elements, double scale, double width, double tolerance, std::vector<element>& classes,
+                  std::vector<double>& weights) {
+    for (const auto& a : elements) {
+        element_options eo;
+        eo.size_mm = scale, eo.width_mm = width, eo.tolerance_mm = tolerance, eo.name = a.path;
+        classes.push_back(element_from_svg(io::read_svg(a.path, std::min(0.01, tolerance / 4)), eo));
+        weights.push_back(a.weight);
+    }
+}
+
 // The --mesh form (on_surface.hpp): elements read as in the 2D form, the rest on the surface.
 template <class Progress>
 void run_surface_mode(const filigree_tool::surface_request& rq, const std::vector<std::string>& element_args, double scale, double width,
@@ -119,12 +130,7 @@ void run_surface_mode(const filigree_tool::surface_request& rq, const std::vecto
         if (!std::isfinite(x)) throw invalid_input("--up must be finite");
     std::vector<element> classes;
     std::vector<double> weights;
-    for (const auto& a : elements) {
-        element_options eo;
-        eo.size_mm = scale, eo.width_mm = width, eo.tolerance_mm = tolerance, eo.name = a.path;
-        classes.push_back(element_from_svg(io::read_svg(a.path, std::min(0.01, tolerance / 4)), eo));
-        weights.push_back(a.weight);
-    }
+    load_classes(elements, scale, width, tolerance, classes, weights);
     if (std::all_of(weights.begin(), weights.end(), [](double w) { return w <= 0; })) throw invalid_input("--element: every class has weight 0");
     synthesis_options so;
     so.seed = seed, so.sigma_d = sigma_d, so.sigma_f = sigma_f, so.max_rounds = rounds;
@@ -240,12 +246,7 @@ int main(int argc, char** argv) {
                                                                              tool::require_range(rect[1], 1e-2, 1e5, "--rect height", "mm"));
         std::vector<element> classes;
         std::vector<double> weights;
-        for (const auto& a : elements) {
-            element_options eo;
-            eo.size_mm = scale, eo.width_mm = width, eo.tolerance_mm = tolerance, eo.name = a.path;
-            classes.push_back(element_from_svg(io::read_svg(a.path, std::min(0.01, tolerance / 4)), eo));
-            weights.push_back(a.weight);
-        }
+        load_classes(elements, scale, width, tolerance, classes, weights);
         {  // the pattern's size before any work: initialization covers >= 40% new area per element
             double smallest = std::numeric_limits<double>::infinity();
             const double s_min = field_scale.empty() ? 1.0 : std::min(field_scale[0], field_scale[1]);
@@ -311,13 +312,6 @@ int main(int argc, char** argv) {
             {"domain_area_mm2", domain.area},
             {"covered_fraction_initial", syn.covered_fraction},
             {"field", field_kind},
-            {"rounds", syn.rounds},
-            {"pme", {{"initial", syn.energy_initial}, {"after_first_placement", syn.energy_after_placement}, {"final", syn.energy_final}}},
-            {"pme_per_instance_per_round", syn.energy_per_round},
-            {"smooth_connections", syn.smooth_connections},
-            {"boosted_moves", syn.boosted},
-            {"boosting_reconnections", syn.reconnected},
-            {"duplicates_removed", syn.duplicates_removed},
             {"connection_database", syn.database_size},
             {"topology_cut", {{"protrusions_trimmed", syn.cut.protrusions_trimmed}, {"branches_cut", syn.cut.branches_cut},
                               {"cuts_refused_for_connectivity", syn.cut.cuts_refused_for_connectivity}}},
@@ -336,6 +330,7 @@ int main(int argc, char** argv) {
                          {"topology_cut", syn.seconds.topology_cut}, {"structure", rf.seconds},
                          {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()}}},
         };
+        report.update(filigree_tool::layout_fields(syn));
         for (std::size_t c = 0; c < classes.size(); ++c)
             report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"instances", per_class[c]},
                                           {"skeleton_vertices", classes[c].vertices.size()}, {"size_mm", classes[c].size}});
@@ -345,11 +340,7 @@ int main(int argc, char** argv) {
         io::write_stl(stl_file, mesh);
         io::write_png(png_file, png);
         io::write_png(steps_file, steps);
-        {
-            std::ofstream j(json_file);
-            j << report.dump(2) << "\n";
-            if (!j) throw io_error(json_out.string(), 0, "cannot write the report");
-        }
+        filigree_tool::write_report(json_file, json_out, report);
         outputs.commit();
         progress(1.0, "write");
         char line[400];

@@ -30,3 +30,11 @@ run multi_class --element "$el/spiral.svg:2" --element "$el/leaf.svg:1" --rect 9
 run field --element "$el/s_curl.svg" --rect 90 70 --scale 18 --width 0.8 --field-image "$el/gradient_field.png" --field-scale 0.6 1.4 \
   --no-structure --seed 3
 run domain_hole --element "$el/c_scroll.svg" --domain "$el/frame_with_hole.svg" --scale 18 --width 0.8 --seed 4
+# On base surfaces (part 2): the bunny (closed up to its 5 holes, scaled to 100 mm, y up) and the
+# generated open vase (data/meshes/vase.obj, z up); OUT.stl printable solid, OUT.obj baked M_b,
+# OUT.png the base with the filigree from two sides, OUT.json the report.
+echo "== filigree on the bunny"
+"$fg" --element "$el/c_scroll.svg" --mesh "$DATA/meshes/bunny.obj" --mesh-size 100 --up 0 1 0 --scale 16 --width 0.8 --seed 1 \
+  -o "$OUT_DIR/filigree_bunny.stl"
+echo "== filigree on the vase"
+"$fg" --element "$el/c_scroll.svg" --mesh "$DATA/meshes/vase.obj" --up 0 0 1 --scale 14 --width 0.8 --seed 1 -o "$OUT_DIR/filigree_vase.stl"

@@ -44,6 +44,26 @@ struct surface_request {
     double mesh_size = 0;  // 0: the mesh is in mm as it is
 };
 
+// The report fields of the synthesis rounds, common to both forms (synthesis_result and
+// surface_synthesis_result have them under the same names).
+template <class R>
+nlohmann::ordered_json layout_fields(const R& syn) {
+    return {{"rounds", syn.rounds},
+            {"pme", {{"initial", syn.energy_initial}, {"after_first_placement", syn.energy_after_placement}, {"final", syn.energy_final}}},
+            {"pme_per_instance_per_round", syn.energy_per_round},
+            {"smooth_connections", syn.smooth_connections},
+            {"boosted_moves", syn.boosted},
+            {"boosting_reconnections", syn.reconnected},
+            {"duplicates_removed", syn.duplicates_removed}};
+}
+
+// Writes the JSON report to the staged `file` (errors name `shown`, the final path).
+inline void write_report(const fs::path& file, const fs::path& shown, const nlohmann::ordered_json& report) {
+    std::ofstream j(file);
+    j << report.dump(2) << "\n";
+    if (!j) throw io_error(shown.string(), 0, "cannot write the report");
+}
+
 // Whitespace-separated numbers of a text file ('#' starts a comment line).
 inline std::vector<double> read_numbers(const std::string& path) {
     std::ifstream in(path);
@@ -97,14 +117,7 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
     progress(0.0, "read mesh");
     triangle_mesh mesh = io::read_mesh(rq.mesh);
     if (mesh.faces.empty()) throw invalid_input(rq.mesh + ": the mesh has no faces");
-    if (rq.mesh_size > 0) {  // scale so that the largest side of the bounding box is mesh_size mm
-        box3 b;
-        for (const vec3& v : mesh.vertices) b.extend(v);
-        const vec3 e = b.hi - b.lo;
-        const double side = std::max({e.x, e.y, e.z});
-        if (!(side > 0)) throw invalid_input(rq.mesh + ": the mesh has no extent");
-        for (vec3& v : mesh.vertices) v = (v - b.lo) * (rq.mesh_size / side);
-    }
+    if (rq.mesh_size > 0) fit_to_size(mesh, rq.mesh_size);  // the largest side of the bounding box becomes mesh_size mm
     const surface_patcher patcher(mesh);
     surface_region region = surface_region::whole(patcher);
     if (!rq.region.empty()) {
@@ -166,13 +179,6 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
                   {"region_area_mm2", region.area}}},
         {"instances", syn.instances.size()},
         {"instances_per_class", per_class},
-        {"rounds", syn.rounds},
-        {"pme", {{"initial", syn.energy_initial}, {"after_first_placement", syn.energy_after_placement}, {"final", syn.energy_final}}},
-        {"pme_per_instance_per_round", syn.energy_per_round},
-        {"smooth_connections", syn.smooth_connections},
-        {"boosted_moves", syn.boosted},
-        {"boosting_reconnections", syn.reconnected},
-        {"duplicates_removed", syn.duplicates_removed},
         {"local_parameterizations", {{"built", syn.maps_built}, {"seconds_summed_over_threads", syn.map_seconds}}},
         {"topology_cut", "not applied on surfaces yet"},
         {"pieces_dropped", rf.pieces_dropped},
@@ -194,15 +200,13 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
                      {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()}}},
     };
 
+    report.update(layout_fields(syn));
+
     progress(0.95, "write");
     io::write_stl(stl_file, solid);
     io::write_obj(obj_file, rf.baked);
     io::write_png(png_file, png);
-    {
-        std::ofstream j(json_file);
-        j << report.dump(2) << "\n";
-        if (!j) throw io_error(json_out.string(), 0, "cannot write the report");
-    }
+    write_report(json_file, json_out, report);
     return report;
 }
 

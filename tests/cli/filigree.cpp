@@ -188,3 +188,91 @@ TEST_CASE("filigree: bad input is refused with the documented exit code and noth
     CHECK_FALSE(fs::exists(work_dir / "filigree_bad.stl"));
     CHECK_FALSE(fs::exists(work_dir / "filigree_bad.json"));
 }
+
+namespace filigree_cli {
+
+// The faces of data/meshes/vase.obj whose centroid lies between z0 and z1 mm (read here from the OBJ).
+std::string vase_band(double z0, double z1) {
+    std::istringstream in(slurp(data_dir / "meshes/vase.obj"));
+    std::vector<std::array<double, 3>> v;
+    std::ostringstream ids;
+    std::string line;
+    std::size_t face = 0;
+    while (std::getline(in, line)) {
+        std::istringstream l(line);
+        std::string tag;
+        l >> tag;
+        if (tag == "v") {
+            std::array<double, 3> p{};
+            l >> p[0] >> p[1] >> p[2];
+            v.push_back(p);
+        } else if (tag == "f") {
+            std::size_t a = 0, b = 0, c = 0;
+            l >> a >> b >> c;
+            const double z = (v[a - 1][2] + v[b - 1][2] + v[c - 1][2]) / 3;
+            if (z >= z0 && z <= z1) ids << face << "\n";
+            ++face;
+        }
+    }
+    return ids.str();
+}
+
+}  // namespace filigree_cli
+
+TEST_CASE("filigree --mesh: a band of the vase, watertight solid, report, same bytes for 1 and 2 threads", "[cli][filigree][surface]") {
+    using namespace filigree_cli;
+    const std::string el = (data_dir / "filigree/c_scroll.svg").string();
+    const std::string region = write_file("filigree_vase_band.txt", vase_band(4, 40));
+    std::vector<std::string> outputs;
+    for (int threads : {1, 2}) {
+        std::string name = "filigree_vase_t";
+        name += std::to_string(threads);
+        name += ".stl";
+        const std::string out = (work_dir / name).string();
+        const result r = run("filigree", {"--element", el, "--mesh", (data_dir / "meshes/vase.obj").string(), "--region", region, "--up", "0", "0", "1",
+                                          "--scale", "14", "--width", "0.8", "--rounds", "2", "--seed", "3", "-o", out},
+                             threads);
+        INFO("stderr: " << r.err);
+        REQUIRE(r.code == 0);
+        CHECK(stl_watertight(slurp(out)));
+        fs::path rep = out, obj = out, png = out;
+        rep.replace_extension(".json"), obj.replace_extension(".obj"), png.replace_extension(".png");
+        const json j = json::parse(slurp(rep));
+        CHECK(j.at("mode") == "surface");
+        CHECK(j.at("stl_components") == 1);
+        CHECK(j.at("instances").get<int>() >= 10);
+        CHECK(j.at("structure").at("analysed") == true);
+        CHECK(j.at("structure").at("weak_fraction_phase2").back() == 0.0);
+        CHECK(j.at("pme").at("final").get<double>() <= j.at("pme").at("initial").get<double>());
+        CHECK(fs::file_size(obj) > 0);
+        CHECK(fs::file_size(png) > 0);
+        outputs.push_back(slurp(out) + slurp(obj));
+    }
+    CHECK(outputs[0] == outputs[1]);
+}
+
+TEST_CASE("filigree --mesh: bad input is refused with the documented exit code and nothing written", "[cli][filigree][surface]") {
+    using namespace filigree_cli;
+    const std::string el = (data_dir / "filigree/c_scroll.svg").string();
+    const std::string out = (work_dir / "filigree_mesh_bad.stl").string();
+    const std::string vase = (data_dir / "meshes/vase.obj").string();
+    const std::string bad_region = write_file("filigree_bad_region.txt", "0\n1\n999999\n");
+    const std::string text_region = write_file("filigree_text_region.txt", "0 1 two\n");
+    const std::string short_scale = write_file("filigree_short_scale.txt", "1 1 1\n");
+    const std::string broken = write_file("filigree_broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    auto args = [&](std::vector<std::string> extra) {
+        std::vector<std::string> a = {"--element", el, "--scale", "14", "--width", "0.8", "-o", out};
+        a.insert(a.end(), extra.begin(), extra.end());
+        return a;
+    };
+    for (const cli_case& c : std::vector<cli_case>{
+             {"a face id out of range", args({"--mesh", vase, "--region", bad_region}), 2, "999999"},
+             {"a region file with text", args({"--mesh", vase, "--region", text_region}), 5, "not a number"},
+             {"a scale file of the wrong length", args({"--mesh", vase, "--field-scale-file", short_scale}), 2, "3 values for 5977 vertices"},
+             {"an up vector of zero", args({"--mesh", vase, "--up", "0", "0", "0"}), 2, "up vector"},
+             {"a mesh indexing a missing vertex", args({"--mesh", broken}), 5, "filigree_broken.obj"},
+             {"--mesh with --rect", args({"--mesh", vase, "--rect", "10", "10"}), 2, "excludes"},
+         })
+        check_case("filigree", c);
+    for (const char* ext : {".stl", ".obj", ".png", ".json"}) CHECK_FALSE(fs::exists(work_dir / (std::string("filigree_mesh_bad") + ext)));
+}

@@ -18,6 +18,7 @@
 #include "fabsynth/filigree/synthesis.hpp"
 #include "fabsynth/io/svg.hpp"
 #include "support/sphere_mesh.hpp"
+#include "support/surface_setup.hpp"
 
 namespace surface_synth_test {
 
@@ -33,36 +34,12 @@ inline element load_element(const std::string& name, double size) {
     return element_from_svg(io::read_svg(fs::path(FABSYNTH_DATA_DIR) / "filigree" / (name + ".svg"), 0.01), o);
 }
 
-// [0, w] x [0, w] in the z = 0 plane, n x n squares cut into two triangles each.
-inline triangle_mesh flat_square(double w, int n) {
-    triangle_mesh m;
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) m.vertices.emplace_back(w * i / n, w * j / n, 0.0);
-    auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-            m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-        }
-    return m;
-}
 
-struct surface_setup {
-    triangle_mesh mesh;
-    surface_patcher patcher;
-    surface_region region;
-    surface_direction_field direction;
-    surface_scale_field scale;
-    explicit surface_setup(triangle_mesh m, vec3 up)
-        : mesh(std::move(m)), patcher(mesh), region(surface_region::whole(patcher)), direction(surface_direction_field::from_up_vector(patcher, up)),
-          scale(surface_scale_field::constant(mesh, 1.0)) {}
-    [[nodiscard]] surface_control field() const { return {&direction, &scale}; }
-};
 
 TEST_CASE("surface initialization on a flat square reproduces the planar initialization", "[filigree][surface]") {
     const std::vector<element> cls{load_element("spiral", 16)};
     const std::vector<double> w{1.0};
-    const surface_setup flat(flat_square(60, 30), {0, 1, 0});  // up = +y: the planar rotation 0
+    const fabsynth::test::surface_setup flat(fabsynth::test::plane_grid(30, 2.0, 1, 0.0), {0, 1, 0});  // up = +y: the planar rotation 0
     for (const std::uint64_t seed : {3u, 11u}) {
         INFO("seed " << seed);
         initialization_options io;
@@ -98,7 +75,7 @@ inline surface_point on_flat(const triangle_mesh& m, vec2 q) {
 TEST_CASE("surface layout optimization on a flat square follows the 2D path (same start, same seed)", "[filigree][surface]") {
     const std::vector<element> cls{load_element("c_scroll", 16)};
     const std::vector<double> w{1.0};
-    const surface_setup flat(flat_square(60, 30), {0, 1, 0});
+    const fabsynth::test::surface_setup flat(fabsynth::test::plane_grid(30, 2.0, 1, 0.0), {0, 1, 0});
     const planar_domain dom = planar_domain::rectangle(60, 60);
     synthesis_options so;
     so.seed = 5;
@@ -144,7 +121,7 @@ TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, 
           "[filigree][surface][slow]") {
     const std::vector<element> cls{load_element("s_curl", 14)};
     const std::vector<double> w{1.0};
-    const surface_setup band(fabsynth::test::cylinder(25, 50, 64, 2.5), {0, 0, 1});
+    const fabsynth::test::surface_setup band(fabsynth::test::cylinder(25, 50, 64, 2.5), {0, 0, 1});
     synthesis_options so;
     so.seed = 2;
     so.max_rounds = 2;

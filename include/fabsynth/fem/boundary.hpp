@@ -42,7 +42,10 @@ struct gravity_load {
     std::uint32_t element = 0;
     vec3 acceleration{0.0};
 };
-/// Uniform pressure [MPa] on a shell element, positive against its normal (Abaqus P).
+/// Uniform pressure [MPa] on a shell element, positive against its normal (a pressure from the
+/// side the normal points to). Decks use the opposite sign: CalculiX's *DLOAD P on S3 pushes along
+/// the normal (checked with ccx on a clamped plate: +P moves it along +n); inp.hpp and
+/// inp_writer.hpp convert.
 struct pressure_load {
     std::uint32_t element = 0;
     double pressure = 0;

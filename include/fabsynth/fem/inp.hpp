@@ -14,7 +14,8 @@
 ///               XSYMM|YSYMM|ZSYMM|XASYMM|YASYMM|ZASYMM (rotational DOFs skipped on solid nodes)
 ///   *CLOAD      node|nset, dof, magnitude
 ///   *DLOAD      element|elset, GRAV, g, nx, ny, nz     (g [mm/s^2] along the normalised direction)
-///               element|elset, P, pressure              (S3 shells only; positive against the normal)
+///               element|elset, P, pressure              (S3 shells only; CalculiX's sign: positive P pushes
+///                                                       along the normal, so it is read as pressure_load -P)
 ///   *NODE PRINT, *EL PRINT, *NODE FILE, *EL FILE: accepted and ignored (with their data lines).
 /// Any other keyword, parameter value or data line it cannot honour throws io_error naming the
 /// file, line and keyword: nothing is skipped silently; so does a number above 1e30 in magnitude
@@ -483,7 +484,7 @@ private:
                     if (m.elements[e].kind != element_kind::shell3)
                         fail(std::string("*DLOAD P on ") + kind_name(m.elements[e].kind) + " element " + std::to_string(m.element_label(e)) +
                              " is not supported (pressure only on S3 shells)");
-                    d_.loads.pressures.push_back({e, l.p});
+                    d_.loads.pressures.push_back({e, -l.p});  // CalculiX: +P along the normal; pressure_load: against it
                 }
             }
         }

@@ -126,7 +126,7 @@ inline void put_number(std::string& s, double v) {
             for (double c : {x, y, z}) s += ", ", detail::put_number(s, g > 0 ? c / g : 0.0);
             s += '\n';
         }
-        for (const pressure_load& P : lc.pressures) s += std::to_string(element_id(P.element)) + ", P, ", detail::put_number(s, P.pressure), s += '\n';
+        for (const pressure_load& P : lc.pressures) s += std::to_string(element_id(P.element)) + ", P, ", detail::put_number(s, -P.pressure), s += '\n';  // deck sign: CalculiX's +P pushes along the normal
     }
     if (opt.print_displacements) s += "*NODE PRINT, NSET=NALL\nU\n";
     s += "*END STEP\n";

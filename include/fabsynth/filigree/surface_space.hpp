@@ -45,6 +45,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -277,18 +278,22 @@ public:
         maps_[i] = {};
     }
 
-    /// The region's faces of v's map whose (u, v) boxes meet `box`, united (the domain near a
-    /// candidate, for the initialization's domain rule).
-    [[nodiscard]] std::vector<polygon_with_holes> region_near(const view_type& v, const box2& box) const {
-        const local_patch& P = v.patch();
-        std::vector<ring2> tris;
-        for (std::size_t t = 0; t < P.faces.size(); ++t) {
-            if (!region_->contains(P.faces[t])) continue;
-            box2 b;
-            for (const std::uint32_t k : P.corners[t]) b.extend(P.uv[k]);
-            if (b.intersects(box)) tris.push_back({P.uv[P.corners[t][0]], P.uv[P.corners[t][1]], P.uv[P.corners[t][2]]});
+    /// The region as seen in v's map (for the initialization's domain rule): nothing when no map
+    /// face meeting `box` is outside the region or has a border edge (the box lies inside the
+    /// region); else the region faces of the map as polygons, from the loops of their boundary
+    /// edges (even-odd; linear in the edges, where a union of the triangles, thousands on a fine
+    /// mesh, makes Clipper's edge joining quadratic). Both are computed once per map.
+    [[nodiscard]] std::optional<std::vector<polygon_with_holes>> region_near(const view_type& v, const box2& box) const {
+        const std::size_t i = v.global(v.index());
+        cached_map& c = maps_[i];
+        if (c.patch.get() != &v.patch()) return region_polygons(v.patch(), box).second;  // a view older than the cache
+        if (!c.region_ready) {
+            auto [edges, polys] = region_polygons(v.patch(), std::nullopt);
+            c.edge_boxes = std::move(edges), c.region_polys = std::move(polys), c.region_ready = true;
         }
-        return polygon_union(tris, fill_rule::nonzero);
+        for (const box2& b : c.edge_boxes)
+            if (b.intersects(box)) return c.region_polys;
+        return std::nullopt;
     }
 
     /// The connectivity graph: i and j connected when they overlap (matching.hpp) in the picture
@@ -328,7 +333,47 @@ public:
 private:
     struct cached_map {
         std::shared_ptr<const local_patch> patch;
+        bool region_ready = false;                  // region_near's data below computed
+        std::vector<box2> edge_boxes;               // (u, v) boxes of the map faces outside the region or on its border
+        std::optional<std::vector<polygon_with_holes>> region_polys;  // the region in the map
     };
+
+    // The boxes of the map faces outside the region or with a border edge (those meeting `only`
+    // when given), and the region faces of the map as polygons (nothing if there is no such face).
+    [[nodiscard]] std::pair<std::vector<box2>, std::optional<std::vector<polygon_with_holes>>> region_polygons(const local_patch& P,
+                                                                                                          std::optional<box2> only) const {
+        std::vector<box2> edges;
+        for (std::size_t t = 0; t < P.faces.size(); ++t) {
+            if (region_->contains(P.faces[t]) && !region_->border[P.faces[t]]) continue;
+            box2 b;
+            for (const std::uint32_t k : P.corners[t]) b.extend(P.uv[k]);
+            if (!only || b.intersects(*only)) edges.push_back(b);
+        }
+        if (edges.empty()) return {std::move(edges), std::nullopt};
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;  // of the map's region faces
+        for (std::size_t t = 0; t < P.faces.size(); ++t) {
+            if (!region_->contains(P.faces[t])) continue;
+            for (int k = 0; k < 3; ++k) ++directed[{P.corners[t][static_cast<std::size_t>(k)], P.corners[t][static_cast<std::size_t>((k + 1) % 3)]}];
+        }
+        std::multimap<std::uint32_t, std::uint32_t> next;  // boundary edges: their reverse is not there
+        for (const auto& [e, n] : directed)
+            if (!directed.count({e.second, e.first})) next.emplace(e.first, e.second);
+        std::vector<ring2> loops;
+        while (!next.empty()) {  // chain into closed loops (any continuation at a pinch: the parity is the same)
+            ring2 loop;
+            auto it = next.begin();
+            const std::uint32_t start = it->first;
+            while (it != next.end()) {
+                loop.push_back(P.uv[it->first]);
+                const std::uint32_t to = it->second;
+                next.erase(it);
+                if (to == start) break;
+                it = next.find(to);
+            }
+            if (loop.size() >= 3) loops.push_back(std::move(loop));
+        }
+        return {std::move(edges), polygon_union(loops, fill_rule::evenodd)};
+    }
 
     // The exponential map around instance i (v axis along the field direction), built once per position.
     [[nodiscard]] std::shared_ptr<const local_patch> map_of(std::size_t i) const {
@@ -405,22 +450,27 @@ struct surface_initialization_result {
 
 namespace detail::surface {
 
+// The region point nearest p (brute force over the region's faces).
+[[nodiscard]] inline surface_point nearest_region_point(const surface_region& r, vec3 p) {
+    const triangle_mesh& m = r.patcher->mesh();
+    surface_point best{r.faces.front(), {1.0 / 3, 1.0 / 3, 1.0 / 3}};
+    double best_d = std::numeric_limits<double>::infinity();
+    for (const std::uint32_t f : r.faces) {
+        const auto& t = m.faces[f];
+        const vec3 q = closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]).point;
+        const double d = glm::distance(q, p);
+        if (d < best_d) best_d = d, best = {f, barycentric(q, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]])};
+    }
+    return best;
+}
+
 // The region point nearest the centre of the region's bounding box (the first element's place).
 [[nodiscard]] inline surface_point central_point(const surface_region& r) {
     const triangle_mesh& m = r.patcher->mesh();
     box3 b;
     for (const std::uint32_t f : r.faces)
         for (const std::uint32_t v : m.faces[f]) b.extend(m.vertices[v]);
-    const vec3 c = 0.5 * (b.lo + b.hi);
-    surface_point best{r.faces.front(), {1.0 / 3, 1.0 / 3, 1.0 / 3}};
-    double best_d = std::numeric_limits<double>::infinity();
-    for (const std::uint32_t f : r.faces) {
-        const auto& t = m.faces[f];
-        const vec3 q = closest_point_on_triangle(c, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]).point;
-        const double d = glm::distance(q, c);
-        if (d < best_d) best_d = d, best = {f, barycentric(q, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]])};
-    }
-    return best;
+    return nearest_region_point(r, 0.5 * (b.lo + b.hi));
 }
 
 // A uniform random point of the region (faces by area, then uniform barycentric coordinates).
@@ -500,7 +550,7 @@ namespace detail::surface {
             if (!own) geo.push_back(pic.geometry()[k]), cls_of.push_back(pic.instances()[k].cls);
         const auto region_here = s.region_near(v, pc.box);
         const auto at = own ? std::optional<surface_point>(c.at) : v.patch().locate(c.position);
-        if (!at || !di::admissible(pc, c.cls, geo, cls_of, &region_here, opt)) {
+        if (!at || !di::admissible(pc, c.cls, geo, cls_of, region_here ? &*region_here : nullptr, opt)) {
             if (own) s.pop_back();
             hosts.failed();
             return false;

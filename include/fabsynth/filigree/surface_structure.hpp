@@ -178,20 +178,6 @@ struct surface_reinforcement_result {
 
 namespace detail::surface {
 
-// The region point nearest p (brute force over the region's faces).
-[[nodiscard]] inline surface_point nearest_region_point(const surface_region& r, vec3 p) {
-    const triangle_mesh& m = r.patcher->mesh();
-    surface_point best{r.faces.front(), {1.0 / 3, 1.0 / 3, 1.0 / 3}};
-    double best_d = std::numeric_limits<double>::infinity();
-    for (const std::uint32_t f : r.faces) {
-        const auto& t = m.faces[f];
-        const vec3 q = closest_point_on_triangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]).point;
-        const double d = glm::distance(q, p);
-        if (d < best_d) best_d = d, best = {f, barycentric(q, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]])};
-    }
-    return best;
-}
-
 // M_b of a layout, reduced to its largest piece.
 [[nodiscard]] inline triangle_mesh baked_piece(std::span<const element> classes, std::span<const surface_instance> instances,
                                                std::span<const surface_skeleton> skeletons, const surface_control& field, const surface_region& region,

@@ -157,6 +157,7 @@ struct face_piece {
     std::array<vec2, 3> corners;
     std::vector<polygon_with_holes> polys;
     std::vector<std::vector<place>> places;  // per ring (outer, then holes, polygon by polygon)
+    planar_triangulation triangles;          // of polys (every ring vertex kept, in ring order)
 };
 
 [[nodiscard]] inline place locate_on_face(const triangle_mesh& m, std::uint32_t f, const std::array<vec2, 3>& t2, vec2 q, double weld) {
@@ -232,9 +233,27 @@ struct face_piece {
             rings.insert(rings.end(), p.holes.begin(), p.holes.end());
         }
         const auto united = polygon_union(rings, fill_rule::nonzero, grid);
-        // the notches of a grid unit the booleans leave would stop the ear clipper: merged at the weld distance
-        fp.polys = merge_close_vertices(polygon_intersection({polygon_with_holes{ring2{fp.corners[0], fp.corners[1], fp.corners[2]}, {}}}, united, grid),
-                                        weld, grid);
+        // The notches of a grid unit the booleans leave would stop the ear clipper: vertices are
+        // merged at the weld distance, then at 100 and 1000 times it; a piece whose rings still
+        // touch themselves (a spike against an edge) is opened by 10 and 100 times the weld
+        // (offset in, out, clipped to the face again), which removes features thinner than that.
+        const ring2 tri{fp.corners[0], fp.corners[1], fp.corners[2]};
+        const auto clipped = polygon_intersection({polygon_with_holes{tri, {}}}, united, grid);
+        const std::array<double, 5> spacing{weld, 100 * weld, 1000 * weld, 1e4 * weld, 1e5 * weld};
+        for (std::size_t attempt = 0; attempt < spacing.size(); ++attempt) {
+            if (attempt < 3) fp.polys = merge_close_vertices(clipped, spacing[attempt], grid);
+            else {
+                const double d = spacing[attempt];
+                fp.polys = merge_close_vertices(
+                    polygon_intersection({polygon_with_holes{tri, {}}}, polygon_offset(polygon_offset(clipped, -d, 0.1 * d), d, 0.1 * d), grid), weld, grid);
+            }
+            try {
+                fp.triangles = triangulate(fp.polys);
+                break;
+            } catch (const solver_error& e) {
+                if (attempt + 1 == spacing.size()) throw solver_error("bake: face " + std::to_string(f) + ": " + e.what());
+            }
+        }
         if (fp.polys.empty()) continue;
         for (const auto& p : fp.polys)
             for (std::size_t r = 0; r <= p.holes.size(); ++r) {
@@ -304,7 +323,7 @@ struct face_piece {
                     ids.push_back(id);
                 }
             }
-        const planar_triangulation t = triangulate(fp.polys);  // keeps every ring vertex, outer rings then holes, in order
+        const planar_triangulation& t = fp.triangles;
         if (t.vertices.size() != ids.size()) throw solver_error("bake: the triangulation changed the vertex count");
         std::vector<std::array<std::uint32_t, 3>> work;
         for (const auto& tri : t.triangles) work.push_back({ids[tri[0]], ids[tri[1]], ids[tri[2]]});
