@@ -87,6 +87,17 @@ image8 steps_image(const std::vector<std::vector<polygon_with_holes>>& panels, c
 
 }  // namespace
 
+// The ranges both forms check (scale, width, thickness, tolerance, sigma_d, sigma_f, rounds).
+void check_common_ranges(double scale, double width, double thickness, double tolerance, double sigma_d, double sigma_f, int rounds) {
+    tool::require_range(scale, 0.1, 1e4, "--scale", "mm");
+    tool::require_range(width, 1e-3, scale, "--width", "mm (at most --scale)");
+    tool::require_range(thickness, 1e-3, 1e3, "--thickness", "mm");
+    tool::require_range(tolerance, 1e-4, scale, "--tolerance", "mm");
+    tool::require_range(sigma_d, 1e-3, 1.0, "--sigma-d", "");
+    tool::require_range(sigma_f, 1e-4, 1.0, "--sigma-f", "");
+    if (rounds < 1 || rounds > 100) throw invalid_input("--rounds must be in [1, 100]");
+}
+
 // The element classes of --element arguments (scaled to `scale` mm, strips `width` mm wide).
 void load_classes(const std::vector<element_arg>& elements, double scale, double width, double tolerance, std::vector<element>& classes,
                   std::vector<double>& weights) {
@@ -117,14 +128,8 @@ void run_surface_mode(const filigree_tool::surface_request& rq, const std::vecto
     tool::check_outputs(inputs, outs);
     for (const auto& e : elements)
         if (!fs::is_regular_file(e.path)) throw io_error(e.path, 0, "no such element file");
-    tool::require_range(scale, 0.1, 1e4, "--scale", "mm");
-    tool::require_range(width, 1e-3, scale, "--width", "mm (at most --scale)");
-    tool::require_range(thickness, 1e-2, 1e3, "--thickness", "mm");
-    tool::require_range(tolerance, 1e-4, scale, "--tolerance", "mm");
-    tool::require_range(sigma_d, 1e-3, 1.0, "--sigma-d", "");
-    tool::require_range(sigma_f, 1e-4, 1.0, "--sigma-f", "");
+    check_common_ranges(scale, width, thickness, tolerance, sigma_d, sigma_f, rounds);
     tool::require_range(max_elements, 1, 1e6, "--max-elements", "");
-    if (rounds < 1 || rounds > 100) throw invalid_input("--rounds must be in [1, 100]");
     if (rq.mesh_size != 0) tool::require_range(rq.mesh_size, 1e-2, 1e5, "--mesh-size", "mm");
     for (const double x : rq.up)
         if (!std::isfinite(x)) throw invalid_input("--up must be finite");
@@ -223,15 +228,9 @@ int main(int argc, char** argv) {
         for (const auto& e : elements)
             if (!fs::is_regular_file(e.path)) throw io_error(e.path, 0, "no such element file");
         if (rect.empty() == domain_path.empty()) throw invalid_input("give exactly one of --rect and --domain");
-        tool::require_range(scale, 0.1, 1e4, "--scale", "mm");
-        tool::require_range(width, 1e-3, scale, "--width", "mm (at most --scale)");
-        tool::require_range(thickness, 1e-3, 1e3, "--thickness", "mm");
-        tool::require_range(tolerance, 1e-4, scale, "--tolerance", "mm");
-        tool::require_range(sigma_d, 1e-3, 1.0, "--sigma-d", "");
-        tool::require_range(sigma_f, 1e-4, 1.0, "--sigma-f", "");
+        check_common_ranges(scale, width, thickness, tolerance, sigma_d, sigma_f, rounds);
         if (!(std::isfinite(pressure) && pressure >= 0)) throw invalid_input("--pressure must be finite and >= 0 Pa");
         if (!std::isfinite(rotation_deg)) throw invalid_input("--rotation must be finite");
-        if (rounds < 1 || rounds > 100) throw invalid_input("--rounds must be in [1, 100]");
         if (!field_image.empty() && field_scale.size() != 2) throw invalid_input("--field-image needs --field-scale S0 S1");
         if (field_image.empty() && !field_scale.empty()) throw invalid_input("--field-scale needs --field-image");
         for (double s : field_scale) tool::require_range(s, 1e-2, 1e2, "--field-scale", "");

@@ -251,7 +251,7 @@ public:
             if (j != i && glm::distance(positions_[j], positions_[i]) > reach) continue;  // the map cannot reach it
             auto in = in_picture(P, instances_[j]);
             if (!in) {
-                if (j == i) throw invalid_input("surface synthesis: the local parameterization lost its own origin");
+                if (j == i) throw solver_error("surface synthesis: the local parameterization lost its own origin");
                 continue;
             }
             if (j == i) v.self_ = v.ids_.size();
