@@ -3,9 +3,11 @@
 // closed forms (cracks between faces would add boundary), manifold edges, components, bad input.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
@@ -71,6 +73,8 @@ TEST_CASE("bake: areas and boundaries of baked contours equal their closed forms
 }
 
 TEST_CASE("bake_per_face: contours given per face, twice over, give the closed-form areas and boundaries (no cracks)", "[geometry][bake]") {
+    // mirrored: the second copy's rings come clockwise, as from a chart mirrored against the face
+    // (a fold of a local parameterization); a nonzero union of the raw rings would cancel them.
     const int n = 10;
     const triangle_mesh m = test::plane_grid(n, 1.0, 1, 0.0);  // [0, 10]^2
     const int sides = 48;
@@ -85,8 +89,8 @@ TEST_CASE("bake_per_face: contours given per face, twice over, give the closed-f
     const double exact_area = disk_area + (12.0 - 1.4 * 2.0) + 1.5 * 1.5;
     const double exact_boundary = disk_perimeter + 14.0 + 6.8 + 6.0;
 
-    for (const bool tilted : {false, true}) {
-        INFO((tilted ? "tilted" : "flat"));
+    for (const auto& [tilted, mirrored] : {std::pair{false, false}, std::pair{true, false}, std::pair{false, true}, std::pair{true, true}}) {
+        INFO((tilted ? "tilted" : "flat") << (mirrored ? ", mirrored second copy" : ""));
         auto place = [&](vec2 q) {  // the chart point on the (tilted) plane
             return tilted ? vec3(q.x, std::cos(0.6) * q.y - std::sin(0.6) * 5.0, std::sin(0.6) * q.y + 7.0) : vec3(q.x, q.y, 0.0);
         };
@@ -104,8 +108,15 @@ TEST_CASE("bake_per_face: contours given per face, twice over, give the closed-f
                 }
                 return o;
             };
+            auto mirror = [&](polygon_with_holes p) {
+                if (mirrored) {
+                    std::reverse(p.outer.begin(), p.outer.end());
+                    for (ring2& h : p.holes) std::reverse(h.begin(), h.end());
+                }
+                return p;
+            };
             per_face.push_back({f, {carry({disk, {}}), carry(ring_left)}});
-            per_face.push_back({f, {carry({disk, {}}), carry(ring_right), carry(out_of_mesh)}});
+            per_face.push_back({f, {mirror(carry({disk, {}})), mirror(carry(ring_right)), mirror(carry(out_of_mesh))}});
         }
         const triangle_mesh mb = bake_per_face(base, per_face);
         CHECK(mesh_area(mb) == Approx(exact_area).epsilon(1e-9));

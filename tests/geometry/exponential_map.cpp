@@ -1,6 +1,7 @@
 // geometry/exponential_map.hpp: the discrete exponential map against closed forms: an isometry on
 // a tilted, jittered plane (exact), the unrolled cylinder (developable), great-circle distances on
-// a sphere, point location round trips, determinism and bad input.
+// a sphere, no mirrored face where the discrete map folds (a lens's rim, past a sphere's equator),
+// point location round trips, determinism and bad input.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -110,6 +111,34 @@ TEST_CASE("exponential map: great-circle distances on a sphere", "[geometry][exp
     }
     INFO("worst relative error of |uv| against the great-circle distance: " << worst_rel);
     CHECK(worst_rel < 5e-3);  // measured: 0.09% at half a radian
+}
+
+TEST_CASE("exponential map: no mirrored face past a sharp rim or beyond the equator", "[geometry][exponential_map]") {
+    // A lens (a sphere of radius 10 squashed to 1 mm thickness: a rim far sharper than its
+    // edges) and the round sphere with a disk past its equator: the discrete map mirrors faces
+    // there (51 and 89 before the fold check); a patch keeps only faces whose (u, v) triangle turns
+    // the way the face turns about its vertex normals, and its disk still reaches past the rim.
+    for (const double squash : {0.05, 1.0}) {
+        triangle_mesh m = sphere_mesh(10.0, 4);
+        for (vec3& v : m.vertices) v.z *= squash;
+        const surface_patcher patcher(m);
+        std::uint32_t top = 0;
+        for (std::uint32_t f = 0; f < m.num_faces(); ++f)
+            if (patcher.position({f, {1.0 / 3, 1.0 / 3, 1.0 / 3}}).z > patcher.position({top, {1.0 / 3, 1.0 / 3, 1.0 / 3}}).z) top = f;
+        const double radius = squash < 1 ? 16.0 : 25.0;
+        const local_patch p = patcher.patch({top, {1.0 / 3, 1.0 / 3, 1.0 / 3}}, vec3(1, 0, 0), radius);
+        const auto normals = fabsynth::vertex_normals(m);
+        std::size_t below = 0;
+        for (std::size_t t = 0; t < p.faces.size(); ++t) {
+            const auto& c = m.faces[p.faces[t]];
+            const double turn_2d = fabsynth::orient2d(p.uv[p.corners[t][0]], p.uv[p.corners[t][1]], p.uv[p.corners[t][2]]);
+            const vec3 n3 = glm::cross(m.vertices[c[1]] - m.vertices[c[0]], m.vertices[c[2]] - m.vertices[c[0]]);
+            INFO("squash " << squash << " face " << p.faces[t]);
+            CHECK(turn_2d * glm::dot(n3, normals[c[0]] + normals[c[1]] + normals[c[2]]) > 0);
+            below += n3.z < 0;
+        }
+        CHECK(below > 100);  // the disk wraps past the rim (the equator) onto the lower side
+    }
 }
 
 TEST_CASE("exponential map: same input, same patch; bad input named", "[geometry][exponential_map]") {

@@ -1,6 +1,7 @@
 // geometry/surface_offset.hpp (eq. 9 of filigree-synthesis.md §6.2): volumes of thickened open
 // surfaces against Steiner's formula (a square: slab + half cylinders + a ball; an open cylinder:
-// annulus + two half tori), watertightness and one component, a graded thickness, bad input.
+// annulus + two half tori), watertightness and one component, a closed sphere's void (filled or
+// kept, volumes of the balls), a graded thickness, bad input.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -43,6 +44,23 @@ TEST_CASE("thicken_surface: an open cylinder band has Steiner's volume", "[geome
     check_closed_piece(s);
     INFO("volume " << fabsynth::signed_volume(s) << " exact " << exact);
     CHECK(fabsynth::signed_volume(s) == Approx(exact).epsilon(1e-3));  // measured 677.44 vs 677.67
+}
+
+TEST_CASE("thicken_surface: a closed sphere's void is filled by default, kept on request", "[geometry][surface_offset]") {
+    const double R = 5.0, tau = 1.0;
+    const triangle_mesh sphere = fabsynth::test::sphere_mesh(R, 4);  // 2048 faces, edges about 0.3 mm
+    const double outer = 4.0 / 3 * std::numbers::pi * std::pow(R + tau / 2, 3), inner = 4.0 / 3 * std::numbers::pi * std::pow(R - tau / 2, 3);
+    const triangle_mesh kept = fabsynth::thicken_surface(sphere, tau, {.cell = 0.1, .fill_cavities = false});
+    std::size_t shells = 0;
+    (void)fabsynth::face_components(kept, &shells);
+    CHECK(shells == 2);  // the outer surface and the void's
+    CHECK(fabsynth::is_watertight(kept));
+    INFO("kept " << fabsynth::signed_volume(kept) << " exact " << outer - inner);
+    CHECK(fabsynth::signed_volume(kept) == Approx(outer - inner).epsilon(1e-2));
+    const triangle_mesh filled = fabsynth::thicken_surface(sphere, tau, {.cell = 0.1});
+    check_closed_piece(filled);
+    INFO("filled " << fabsynth::signed_volume(filled) << " exact " << outer);
+    CHECK(fabsynth::signed_volume(filled) == Approx(outer).epsilon(1e-2));
 }
 
 TEST_CASE("thicken_surface: a graded thickness", "[geometry][surface_offset]") {

@@ -54,8 +54,7 @@ namespace fabsynth::filigree {
 /// parts that meet only at a vertex would hinge there, a mechanism for the shell analysis). Ties:
 /// the piece of the lowest face. `dropped`: the number of other pieces.
 [[nodiscard]] inline triangle_mesh largest_piece(const triangle_mesh& m, std::size_t* dropped = nullptr) {
-    triangle_mesh out;
-    if (m.faces.empty()) return out;
+    if (m.faces.empty()) return {};
     union_find pieces(m.faces.size());
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> first_face;  // undirected edge -> a face using it
     for (std::uint32_t f = 0; f < m.faces.size(); ++f)
@@ -73,18 +72,9 @@ namespace fabsynth::filigree {
     }
     const auto keep = static_cast<std::uint32_t>(std::max_element(size.begin(), size.end()) - size.begin());
     if (dropped) *dropped = count - 1;
-    std::vector<std::uint32_t> id(m.vertices.size(), UINT32_MAX);
-    for (std::size_t f = 0; f < m.faces.size(); ++f) {
-        if (comp[f] != keep) continue;
-        std::array<std::uint32_t, 3> o{};
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t v = m.faces[f][static_cast<std::size_t>(k)];
-            if (id[v] == UINT32_MAX) id[v] = static_cast<std::uint32_t>(out.vertices.size()), out.vertices.push_back(m.vertices[v]);
-            o[static_cast<std::size_t>(k)] = id[v];
-        }
-        out.faces.push_back(o);
-    }
-    return out;
+    std::vector<std::uint8_t> in_piece(m.faces.size());
+    for (std::size_t f = 0; f < m.faces.size(); ++f) in_piece[f] = comp[f] == keep;
+    return faces_subset(m, in_piece);
 }
 
 /// The shell analysis mesh of a baked pattern: vertices closer than `merge` [mm] clustered

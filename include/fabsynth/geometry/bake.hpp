@@ -227,10 +227,14 @@ struct face_piece {
         // and its nearly collinear output vertices stop the ear clipper).
         clip_grid grid;
         grid.scale = std::ldexp(1.0, 24);
+        // Each polygon oriented (outer counter-clockwise, holes clockwise) before the nonzero
+        // union: a caller's chart may be mirrored against the face (a fold of a local
+        // parameterization), and one mirrored ring would cancel the rings it overlaps.
         std::vector<ring2> rings;
-        for (const auto& p : polys) {
-            rings.push_back(p.outer);
-            rings.insert(rings.end(), p.holes.begin(), p.holes.end());
+        for (polygon_with_holes p : polys) {
+            orient(p);
+            rings.push_back(std::move(p.outer));
+            rings.insert(rings.end(), std::make_move_iterator(p.holes.begin()), std::make_move_iterator(p.holes.end()));
         }
         const auto united = polygon_union(rings, fill_rule::nonzero, grid);
         // The notches of a grid unit the booleans leave would stop the ear clipper: vertices are

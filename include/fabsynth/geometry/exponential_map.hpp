@@ -29,7 +29,12 @@
 /// edge (the search expands only from them: edge paths can be ~40% longer than geodesics on
 /// grid-like meshes, so the map's own distance, not the search's, bounds the disk), their (u, v)
 /// in mm, and the faces whose three vertices are in it: every face within geodesic distance
-/// `radius` of the origin, up to the map's error. locate() finds the face whose (u, v)
+/// `radius` of the origin, up to the map's error. Where the discrete map folds (a face's (u, v)
+/// triangle is mirrored against its orientation in 3D relative to the vertex normals: around a
+/// rim far sharper than the edges, such as a thin ear, or past a turn of the normal towards the
+/// opposite side of a closed surface) the search does not expand, and mirrored faces are left
+/// out, so every face of a patch keeps its orientation; nor does it expand beyond an edge-path
+/// distance of twice the disk's reach (where the map's distances collapse). locate() finds the face whose (u, v)
 /// triangle contains a point through a uniform grid over the triangles' boxes (the lowest face id
 /// among those containing it, so the answer is deterministic where the map folds).
 ///
@@ -231,7 +236,20 @@ public:
             }
         };
 
-        const double reach = radius + longest_edge_;
+        const double reach = radius + longest_edge_, path_limit = 2.0 * reach;
+        auto mirrored = [&](std::uint32_t f) {  // face f's (u, v) triangle against its 3D orientation
+            const auto& c = m.faces[f];
+            const std::uint32_t a = sc.slot[c[0]], b = sc.slot[c[1]], e = sc.slot[c[2]];
+            const double turn = orient2d(p.uv[a], p.uv[b], p.uv[e]);
+            return turn * glm::dot(face_normal_area2(m, f), normal[std::max({a, b, e})]) < 0;
+        };
+        auto folds_at = [&](std::uint32_t q) {  // a finished face at q is mirrored
+            for (std::uint32_t i = faces_of_[q]; i < faces_of_[q + 1]; ++i) {
+                const auto& c = m.faces[incident_[i]];
+                if (sc.slot[c[0]] != none && sc.slot[c[1]] != none && sc.slot[c[2]] != none && mirrored(incident_[i])) return true;
+            }
+            return false;
+        };
         for (const std::uint32_t v : m.faces[origin.face]) {
             if (sc.slot[v] != none) continue;  // a degenerate origin face repeats a vertex
             const vec3 t = tangent_step(o, n_o, m.vertices[v]);
@@ -259,7 +277,10 @@ public:
                 wsum += w;
             }
             finish(q, wsum > 0 ? sum / wsum : vec2(0.0));
-            if (glm::length(p.uv.back()) <= reach) relax(q);  // the disk grows by the map's own distances
+            // The disk grows by the map's own distances, but not across a fold (where the map
+            // mirrors, e.g. around a rim much sharper than the edges) nor along edge paths far
+            // longer than the disk (a map whose (u, v) collapse there would take the whole mesh).
+            if (glm::length(p.uv.back()) <= reach && d <= path_limit && !folds_at(q)) relax(q);
         }
         // faces with three finished vertices, taken from the corner with the highest slot (the
         // last one finished; a degenerate face repeating it is listed twice, hence unique), then
@@ -270,7 +291,7 @@ public:
             for (std::uint32_t i = faces_of_[v]; i < faces_of_[v + 1]; ++i) {
                 const auto& c = m.faces[incident_[i]];
                 const std::uint32_t a = sc.slot[c[0]], b = sc.slot[c[1]], d = sc.slot[c[2]];
-                if (a == none || b == none || d == none || std::max({a, b, d}) != k) continue;
+                if (a == none || b == none || d == none || std::max({a, b, d}) != k || mirrored(incident_[i])) continue;
                 found.push_back(incident_[i]);
             }
         }

@@ -125,6 +125,25 @@ inline void fit_to_size(triangle_mesh& m, double size) {
     for (vec3& v : m.vertices) v = (v - bb.lo) * s;
 }
 
+/// The faces f of m with keep[f] != 0, in order, with only the vertices they use (renumbered in
+/// order of first use). keep has one entry per face.
+[[nodiscard]] inline triangle_mesh faces_subset(const triangle_mesh& m, const std::vector<std::uint8_t>& keep) {
+    if (keep.size() != m.faces.size())
+        throw invalid_input("faces_subset: " + std::to_string(keep.size()) + " flags for " + std::to_string(m.faces.size()) + " faces");
+    triangle_mesh out;
+    std::vector<std::uint32_t> id(m.vertices.size(), UINT32_MAX);
+    for (std::size_t f = 0; f < m.faces.size(); ++f) {
+        if (!keep[f]) continue;
+        std::array<std::uint32_t, 3> o = m.faces[f];
+        for (std::uint32_t& v : o) {
+            if (id[v] == UINT32_MAX) id[v] = static_cast<std::uint32_t>(out.vertices.size()), out.vertices.push_back(m.vertices[v]);
+            v = id[v];
+        }
+        out.faces.push_back(o);
+    }
+    return out;
+}
+
 /// Vertex clustering: vertices closer than `tolerance` mm are one (single linkage through a grid of
 /// cell `tolerance`; a cluster takes the position of its lowest vertex id), faces are renumbered,
 /// faces whose corners merged are dropped, unused vertices removed. For meshes whose booleans left

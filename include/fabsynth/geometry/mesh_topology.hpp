@@ -82,6 +82,24 @@ struct half_edge {
     return out;
 }
 
+/// A closed, outward-oriented mesh without its cavity shells: the components (face_components)
+/// whose signed volume is negative bound voids enclosed in the solid, which a printed part could
+/// not drain; the solid is then filled. `removed`: the number of shells dropped. Meant for closed
+/// meshes (e.g. a level set's); an open component's signed volume has no such meaning.
+[[nodiscard]] inline triangle_mesh without_cavities(const triangle_mesh& m, std::size_t* removed = nullptr) {
+    std::size_t count = 0;
+    const std::vector<std::uint32_t> comp = face_components(m, &count);
+    std::vector<double> volume(count, 0.0);
+    for (std::size_t f = 0; f < m.faces.size(); ++f) {
+        const auto& t = m.faces[f];
+        volume[comp[f]] += glm::dot(m.vertices[t[0]], glm::cross(m.vertices[t[1]], m.vertices[t[2]])) / 6.0;
+    }
+    std::vector<std::uint8_t> keep(m.faces.size());
+    for (std::size_t f = 0; f < m.faces.size(); ++f) keep[f] = volume[comp[f]] >= 0.0;
+    if (removed) *removed = static_cast<std::size_t>(std::count_if(volume.begin(), volume.end(), [](double v) { return v < 0.0; }));
+    return faces_subset(m, keep);
+}
+
 /// Full topology summary (see file comment). Throws invalid_input for faces indexing missing vertices.
 [[nodiscard]] inline mesh_topology_info analyze_topology(const triangle_mesh& m) {
     mesh_topology_info info;

@@ -19,7 +19,9 @@
 /// border is outside), and the error is the grid's: surface within about one cell of the exact
 /// offset, volume converging as O(cell^2). A surface thinner than about two cells can fall between
 /// the samples: pick cell <= tau_min / 4. The sign-free distance makes it work on open and
-/// non-manifold surfaces alike (no inside/outside of M_b is needed).
+/// non-manifold surfaces alike (no inside/outside of M_b is needed). The level set of a closed
+/// surface has an inner shell around the void it encloses (and a folded one tiny voids); by
+/// default such cavities are filled (options), so the result is one shell per solid piece.
 ///
 /// Cost: one bounded closest-point query per grid point, O(N log F) for N grid points; the grid
 /// size is checked against `max_samples` before any work.
@@ -41,12 +43,17 @@
 #include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/marching_cubes.hpp"
 #include "fabsynth/geometry/mesh.hpp"
+#include "fabsynth/geometry/mesh_topology.hpp"
 
 namespace fabsynth {
 
 struct surface_offset_options {
     double cell = 0.1;                    ///< grid spacing, mm (<= tau_min / 4 recommended)
     double max_samples = 4e8;             ///< refuse grids with more points than this
+    /// Fill enclosed voids: drop the level set's inner shells (negative signed volume,
+    /// geometry/mesh_topology.hpp's without_cavities). A closed or folded surface thickened
+    /// encloses the space it wraps; a printed part could not drain such a void.
+    bool fill_cavities = true;
 };
 
 namespace detail::offset {
@@ -83,7 +90,8 @@ namespace detail::offset {
         }
         return std::sqrt(c.dist2) - 0.5 * t;
     };
-    return marching_cubes(f, dims, box.lo, vec3(opt.cell));
+    triangle_mesh solid = marching_cubes(f, dims, box.lo, vec3(opt.cell));
+    return opt.fill_cavities ? without_cavities(solid) : solid;
 }
 
 }  // namespace detail::offset
