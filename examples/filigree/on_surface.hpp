@@ -144,7 +144,6 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
     }
 
     progress(0.05, "synthesis on the surface");
-    so.topology_cut = false;
     const surface_synthesis_result syn = synthesize_on_surface(classes, weights, region, field, so);
 
     progress(0.6, ro.enabled ? "bake and structure" : "bake");
@@ -180,7 +179,9 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
         {"instances", syn.instances.size()},
         {"instances_per_class", per_class},
         {"local_parameterizations", {{"built", syn.maps_built}, {"seconds_summed_over_threads", syn.map_seconds}}},
-        {"topology_cut", "not applied on surfaces yet"},
+        {"topology_cut", {{"protrusions_trimmed", syn.cut.cut.protrusions_trimmed}, {"branches_cut", syn.cut.cut.branches_cut},
+                          {"cuts_refused_for_connectivity", syn.cut.cut.cuts_refused_for_connectivity},
+                          {"split_vertices_off_surface", syn.cut.vertices_off_surface}}},
         {"pieces_dropped", rf.pieces_dropped},
         {"pieces_dropped_area_fraction", rf.dropped_area_fraction},
         {"structure", {{"analysed", rf.analysed}, {"material", ro.material == material_preset::pla ? "pla" : "abs"}, {"pressure_pa", ro.pressure_pa},
@@ -196,7 +197,7 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
         {"stl_triangles", solid.faces.size()},
         {"stl_components", topo.components},
         {"seconds", {{"initialization", syn.seconds.initialization}, {"placement", syn.seconds.placement}, {"boosting", syn.seconds.boosting},
-                     {"bake_and_structure", rf.seconds}, {"printable_mesh", solid_seconds},
+                     {"topology_cut", syn.seconds.topology_cut}, {"bake_and_structure", rf.seconds}, {"printable_mesh", solid_seconds},
                      {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()}}},
     };
 

@@ -1,7 +1,7 @@
 // Filigree synthesis on surfaces (filigree-synthesis.md §8.1): on a flat mesh the surface path
-// (exponential-map pictures) reproduces the 2D path of part 1 with the same seed; on curved meshes
-// every instance stays in the region, its skeleton lies on the surface, the PME never rises and the
-// result is the same for 1 and 2 threads.
+// (exponential-map pictures) reproduces the 2D path of part 1 with the same seed, the topology cut
+// included; on curved meshes every instance stays in the region, its skeleton lies on the surface,
+// the PME never rises and the result (the cut skeletons too) is the same for 1 and 2 threads.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -15,7 +15,9 @@
 #include "fabsynth/filigree/element.hpp"
 #include "fabsynth/filigree/initialization.hpp"
 #include "fabsynth/filigree/surface_synthesis.hpp"
+#include "fabsynth/filigree/surface_topology_cut.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
+#include "fabsynth/filigree/topology_cut.hpp"
 #include "fabsynth/io/svg.hpp"
 #include "support/sphere_mesh.hpp"
 #include "support/surface_setup.hpp"
@@ -72,7 +74,7 @@ inline surface_point on_flat(const triangle_mesh& m, vec2 q) {
     return {};
 }
 
-TEST_CASE("surface layout optimization on a flat square follows the 2D path (same start, same seed)", "[filigree][surface]") {
+TEST_CASE("surface layout optimization and topology cut on a flat square follow the 2D path (same start, same seed)", "[filigree][surface]") {
     const std::vector<element> cls{load_element("c_scroll", 16)};
     const std::vector<double> w{1.0};
     const fabsynth::test::surface_setup flat(fabsynth::test::plane_grid(30, 2.0, 1, 0.0), {0, 1, 0});
@@ -115,6 +117,41 @@ TEST_CASE("surface layout optimization on a flat square follows the 2D path (sam
             CHECK(std::abs(q.y - pv[v].y) < 1e-6);
         }
     }
+
+    // The topology cut with every skeleton in its own map makes the planar cut's decisions: the
+    // planar skeletons, clipped to the square as the surface's are, cut in the plane.
+    std::vector<graph::skeleton_graph<vec2>> planar_skeletons = world_skeletons(planar);
+    for (auto& g : planar_skeletons)
+        for (graph::edge_id e = 0; e < g.edge_slots(); ++e) {
+            const auto [a, b] = g.endpoints(e);
+            auto inside = [&](vec2 q) { return q.x >= 0 && q.x <= 60 && q.y >= 0 && q.y <= 60; };
+            if (g.edge_alive(e) && !(inside(g.position(a)) && inside(g.position(b)))) g.remove_edge(e);
+        }
+    const auto pairs = connected_pairs(planar);
+    const topology_cut_report planar_cut = topology_cut(planar_skeletons, pairs, {});
+    std::vector<surface_skeleton> on_surface = surface_skeletons(surf, nullptr);
+    const surface_cut_report surface_cut = topology_cut_on_surface(surf, on_surface, {});
+    CHECK(planar_cut.branches_cut + planar_cut.protrusions_trimmed > 0);  // the comparison has cuts to compare
+    CHECK(surface_cut.cut.branches_cut == planar_cut.branches_cut);
+    CHECK(surface_cut.cut.protrusions_trimmed == planar_cut.protrusions_trimmed);
+    CHECK(surface_cut.cut.cuts_refused_for_connectivity == planar_cut.cuts_refused_for_connectivity);
+    CHECK(surface_cut.vertices_off_surface == 0);
+    for (std::size_t i = 0; i < surf.size(); ++i) {
+        INFO("instance " << i);
+        const auto& g = planar_skeletons[i];
+        const surface_skeleton& sk = on_surface[i];
+        REQUIRE(sk.vertices.size() == g.num_vertices());  // the same split vertices, in the same order
+        CHECK(sk.edges.size() == g.num_edges());
+        double length = 0;
+        for (const skeleton_edge& e : sk.edges) length += glm::distance(sk.picture[e[0]], sk.picture[e[1]]);
+        CHECK(length == Approx(g.total_length()).margin(1e-6));
+        for (std::size_t v = 0; v < g.num_vertices(); ++v) {
+            if (sk.vertices[v].face == UINT32_MAX) continue;
+            const vec3 q = flat.patcher.position(sk.vertices[v]);
+            CHECK(std::abs(q.x - g.position(static_cast<graph::vertex_id>(v)).x) < 1e-6);
+            CHECK(std::abs(q.y - g.position(static_cast<graph::vertex_id>(v)).y) < 1e-6);
+        }
+    }
 }
 
 TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, PME not above its start, same for 1 and 2 threads",
@@ -126,6 +163,7 @@ TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, 
     so.seed = 2;
     so.max_rounds = 2;
     std::vector<std::vector<surface_instance>> runs;
+    std::vector<std::vector<std::vector<skeleton_edge>>> edges;  // per run, per instance
     for (const unsigned threads : {1u, 2u}) {
         set_num_threads(threads);
         const auto r = synthesize_on_surface(cls, w, band.region, band.field(), so);
@@ -140,8 +178,12 @@ TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, 
             for (const surface_point& q : r.skeletons[i].vertices)
                 if (q.face != UINT32_MAX) CHECK(std::abs(std::hypot(band.patcher.position(q).x, band.patcher.position(q).y) - 25) < 0.1);
         }
+        CHECK(r.cut.cut.branches_cut + r.cut.cut.protrusions_trimmed > 0);  // the cut ran on the surface
         runs.push_back(r.instances);
+        edges.push_back({});
+        for (const surface_skeleton& sk : r.skeletons) edges.back().push_back(sk.edges);
     }
+    CHECK(edges[0] == edges[1]);
     REQUIRE(runs[0].size() == runs[1].size());
     for (std::size_t i = 0; i < runs[0].size(); ++i) {
         CHECK(runs[0][i].anchor.face == runs[1][i].anchor.face);

@@ -1,16 +1,19 @@
 // topology_cut.hpp (filigree-synthesis.md §4.5): case 1 on a T with a short stub, case 2 on a
 // lens of two loops (Fig. 9b) and on a loop branch against a dangling branch (Fig. 9d) with the
 // importance of eq. 4 worked out by hand, a cut refused because it would isolate a third element,
-// no crossings, a randomized check against a brute-force connectivity oracle, determinism and
-// input errors.
+// no crossings, a randomized check against a brute-force connectivity oracle, the same cut with
+// every skeleton in a random frame of its own (topology_cut_in_frames; the random patterns hold
+// exact copies of a segment, which must stay non-crossing), determinism and input errors.
 #include <catch2/catch.hpp>
 
 #include <fabsynth/core/rng.hpp>
 #include <fabsynth/filigree/topology_cut.hpp>
+#include <fabsynth/geometry/rigid_motion.hpp>
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <numeric>
 #include <utility>
 #include <vector>
@@ -410,6 +413,59 @@ TEST_CASE("topology cut: same input, same output", "[filigree][topology_cut]") {
     CHECK(ra.branches_cut == rb.branches_cut);
     CHECK(ra.cuts_refused_for_connectivity == rb.cuts_refused_for_connectivity);
     for (std::size_t k = 0; k < a.size(); ++k) CHECK(same_skeleton(a[k], b[k]));
+}
+
+TEST_CASE("topology cut in frames: every skeleton in a random frame of its own gives the planar cut", "[filigree][topology_cut]") {
+    for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+        INFO("seed " << seed);
+        std::vector<skel> world = random_pattern(seed);
+        const pair_list pairs = touching_pairs(world);
+        // frame k -> world: rotation by angle[k], then translation shift[k] (composed by hand here)
+        fabsynth::counter_rng r(seed, 100u);
+        std::vector<double> angle;
+        std::vector<vec2> shift;
+        std::vector<skel> own;
+        for (const skel& g : world) {
+            angle.push_back(r.uniform(-3.0, 3.0)), shift.emplace_back(r.uniform(-50.0, 50.0), r.uniform(-50.0, 50.0));
+            const double c = std::cos(angle.back()), s = std::sin(angle.back());
+            skel o = g;
+            for (std::uint32_t v = 0; v < o.num_vertices(); ++v) {  // world -> own: R^T (x - t)
+                const vec2 d = g.position(v) - shift.back();
+                o.set_position(v, {c * d.x + s * d.y, -s * d.x + c * d.y});
+            }
+            own.push_back(std::move(o));
+        }
+        fabsynth::filigree::instance_frames frames;
+        frames.pose = [&](std::uint32_t a, std::uint32_t b) -> std::optional<fabsynth::rigid_motion2> {
+            // b's coordinates to a's: R_a^T (R_b x + t_b - t_a)
+            const double th = angle[b] - angle[a], ca = std::cos(angle[a]), sa = std::sin(angle[a]);
+            const vec2 d = shift[b] - shift[a];
+            return fabsynth::rigid_motion2{std::cos(th), std::sin(th), vec2(ca * d.x + sa * d.y, -sa * d.x + ca * d.y)};
+        };
+        frames.neighbours = [&](std::uint32_t) {
+            std::vector<std::uint32_t> all(world.size());
+            std::iota(all.begin(), all.end(), 0u);
+            return all;
+        };
+        const auto planar = run(world, pairs);
+        const auto framed = fabsynth::filigree::topology_cut_in_frames(own, std::span<const std::pair<std::uint32_t, std::uint32_t>>(pairs), frames);
+        CHECK(framed.protrusions_trimmed == planar.protrusions_trimmed);
+        CHECK(framed.branches_cut == planar.branches_cut);
+        CHECK(framed.cuts_refused_for_connectivity == planar.cuts_refused_for_connectivity);
+        for (std::size_t k = 0; k < world.size(); ++k) {
+            REQUIRE(own[k].num_vertices() == world[k].num_vertices());
+            REQUIRE(own[k].edge_slots() == world[k].edge_slots());
+            const double c = std::cos(angle[k]), s = std::sin(angle[k]);
+            for (std::uint32_t v = 0; v < own[k].num_vertices(); ++v) {
+                const vec2 x = own[k].position(v), back = vec2(c * x.x - s * x.y, s * x.x + c * x.y) + shift[k];
+                CHECK(glm::distance(back, world[k].position(v)) < 1e-9);
+            }
+            for (std::uint32_t e = 0; e < own[k].edge_slots(); ++e) {
+                CHECK(own[k].edge_alive(e) == world[k].edge_alive(e));
+                CHECK(own[k].endpoints(e) == world[k].endpoints(e));
+            }
+        }
+    }
 }
 
 TEST_CASE("topology cut: bad input is refused by name, nothing changed", "[filigree][topology_cut]") {

@@ -227,8 +227,8 @@ namespace detail::surface {
             again.seed = so.seed + 1000 * static_cast<std::uint64_t>(round + 1);
             surface_synthesis_result res;
             optimize_layout(s, again, res);
-            std::vector<surface_skeleton> sk(s.size());
-            parallel_for(0, s.size(), [&](std::size_t i) { sk[i] = skeleton_on_surface(s, i); });
+            surface_cut_report cut;
+            std::vector<surface_skeleton> sk = surface_skeletons(s, so.topology_cut ? &cut : nullptr);
             std::size_t dropped = 0;
             double dropped_fraction = 0;
             triangle_mesh baked = ds::baked_piece(classes, s.instances(), sk, field, region, dropped, dropped_fraction);

@@ -13,7 +13,8 @@
 ///
 /// The skeleton of an instance is its picture's placed skeleton located on the surface; an edge
 /// is kept when both its ends lie on the map and in the region (an element reaching past an open
-/// border or the region is cut there, as the 2D path clips strips to the domain).
+/// border or the region is cut there, as the 2D path clips strips to the domain). The topology
+/// cut then runs on these skeletons in their own maps (surface_topology_cut.hpp).
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -21,17 +22,10 @@
 #include <vector>
 
 #include "fabsynth/filigree/surface_space.hpp"
+#include "fabsynth/filigree/surface_topology_cut.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
 
 namespace fabsynth::filigree {
-
-/// One instance's skeleton on the surface.
-struct surface_skeleton {
-    std::vector<surface_point> vertices;        ///< where each skeleton vertex lies (absent ones: face = UINT32_MAX)
-    std::vector<double> widths;                 ///< strip width per vertex (mm)
-    std::vector<skeleton_edge> edges;           ///< edges with both ends on the surface
-    std::vector<vec2> picture;                  ///< the vertices in the instance's own map (mm)
-};
 
 struct surface_synthesis_result {
     std::vector<surface_instance> initial, placed_once, instances;
@@ -40,6 +34,7 @@ struct surface_synthesis_result {
     double energy_initial = 0, energy_after_placement = 0, energy_final = 0;
     int rounds = 0;
     std::size_t duplicates_removed = 0, smooth_connections = 0, boosted = 0, reconnected = 0, database_size = 0;
+    surface_cut_report cut{};        ///< the topology cut (when synthesis_options::topology_cut)
     std::size_t maps_built = 0;      ///< local parameterizations built
     double map_seconds = 0;          ///< time in them, summed over threads
     synthesis_timings seconds;
@@ -63,8 +58,17 @@ struct surface_synthesis_result {
     return out;
 }
 
-/// Initialization on the surface plus optimize_layout, then the skeletons on the surface.
-/// opt.topology_cut is not applied on surfaces (see the issue notes in the README).
+/// The skeletons of all instances of s on the surface, cut by the topology cut (§4.5,
+/// surface_topology_cut.hpp) when `cut` is given (its report is stored there).
+[[nodiscard]] inline std::vector<surface_skeleton> surface_skeletons(const surface_space& s, surface_cut_report* cut) {
+    std::vector<surface_skeleton> sk(s.size());
+    parallel_for(0, s.size(), [&](std::size_t i) { sk[i] = skeleton_on_surface(s, i); });
+    if (cut) *cut = topology_cut_on_surface(s, sk, topology_cut_options{});  // thresholds from the strip widths
+    return sk;
+}
+
+/// Initialization on the surface plus optimize_layout, then the skeletons on the surface and, with
+/// opt.topology_cut, their topology cut.
 [[nodiscard]] inline surface_synthesis_result synthesize_on_surface(std::span<const element> classes, std::span<const double> weights,
                                                                     const surface_region& region, const surface_control& field,
                                                                     const synthesis_options& opt = {}) {
@@ -79,8 +83,9 @@ struct surface_synthesis_result {
     surface_space s(classes, r.initial, field, region, opt.gamma_boundary);
     optimize_layout(s, opt, r);
     r.instances = s.instances();
-    r.skeletons.resize(s.size());
-    parallel_for(0, s.size(), [&](std::size_t i) { r.skeletons[i] = skeleton_on_surface(s, i); });
+    t = ds::clock::now();
+    r.skeletons = surface_skeletons(s, opt.topology_cut ? &r.cut : nullptr);
+    if (opt.topology_cut) r.seconds.topology_cut = ds::since(t);
     r.maps_built = init.maps_built + s.maps_built();
     r.map_seconds = init.map_seconds + s.map_seconds();
     return r;

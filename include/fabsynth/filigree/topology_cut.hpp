@@ -75,6 +75,7 @@
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/core/union_find.hpp"
 #include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/rigid_motion.hpp"
 #include "fabsynth/geometry/segment.hpp"
 #include "fabsynth/graph/skeleton_graph.hpp"
 
@@ -108,6 +109,16 @@ struct topology_cut_report {
     std::size_t cuts_refused_for_connectivity = 0;  ///< candidate cuts (either case) left undone
 };
 
+/// Coordinates of instances whose skeletons live in frames of their own (each instance's local
+/// parameterization of a surface), for topology_cut_in_frames.
+struct instance_frames {
+    /// Where instance b's coordinates lie in instance a's frame (a rigid motion taking b's
+    /// coordinates to a's), or nothing when b is out of a's sight.
+    std::function<std::optional<rigid_motion2>(std::uint32_t a, std::uint32_t b)> pose;
+    /// The instances that can touch instance a and have a pose in its frame (a itself is ignored).
+    std::function<std::vector<std::uint32_t>(std::uint32_t a)> neighbours;
+};
+
 namespace detail::topocut {
 
 using skeleton = graph::skeleton_graph<vec2>;
@@ -133,12 +144,14 @@ struct crossing_parameters {
 };
 
 /// The single common point of segments [a, b] and [c, d], or nothing if they are disjoint or
-/// collinear (overlapping collinear segments share no single crossing point).
+/// parallel within 1e-12 rad (overlapping collinear segments share no single crossing point; the
+/// tolerance keeps two copies of one segment collinear after each was moved from its own frame,
+/// where rounding tilts them by ~1e-16).
 [[nodiscard]] inline std::optional<crossing_parameters> segment_crossing(vec2 a, vec2 b, vec2 c, vec2 d) {
     if (!fabsynth::detail::segments_intersect(a, b, c, d)) return std::nullopt;
     const vec2 r = b - a, q = d - c, ac = c - a;
     const double denom = r.x * q.y - r.y * q.x;
-    if (denom == 0.0) return std::nullopt;
+    if (!(std::abs(denom) > 1e-12 * std::sqrt(glm::dot(r, r) * glm::dot(q, q)))) return std::nullopt;
     // a + t r = c + s q, crossed with q and with r
     const double t = (ac.x * q.y - ac.y * q.x) / denom, s = (ac.x * r.y - ac.y * r.x) / denom;
     return crossing_parameters{std::clamp(t, 0.0, 1.0), std::clamp(s, 0.0, 1.0)};
@@ -198,6 +211,13 @@ struct edge_boxes {
     return found;
 }
 
+/// g with every vertex moved by m (ids, widths and edges kept).
+[[nodiscard]] inline skeleton moved_copy(const skeleton& g, const rigid_motion2& m) {
+    skeleton out = g;
+    for (vertex_id v = 0; v < out.num_vertices(); ++v) out.set_position(v, m(g.position(v)));
+    return out;
+}
+
 // ---- connectivity ---------------------------------------------------------------------------
 
 /// Pieces of one skeleton: components of its live edges outside the cut; isolated vertices have no
@@ -233,9 +253,23 @@ struct skeleton_pieces {
 /// joined along live edges and across touching pairs) can be recounted for any tentative cut.
 class pattern_contacts {
 public:
-    /// Finds the touching edge pairs of the instances (candidates from their grown boxes).
-    explicit pattern_contacts(const std::vector<skeleton>& instances) : instances_(&instances), first_vertex_(instances.size() + 1, 0) {
+    /// Finds the touching edge pairs of the instances (candidates from their grown boxes). With
+    /// frames, the edges of instances a < b are compared in a's frame, b's moved there by its pose.
+    explicit pattern_contacts(const std::vector<skeleton>& instances, const instance_frames* frames = nullptr)
+        : instances_(&instances), frames_(frames), first_vertex_(instances.size() + 1, 0) {
         for (std::size_t k = 0; k < instances.size(); ++k) first_vertex_[k + 1] = first_vertex_[k] + instances[k].num_vertices();
+        if (frames_) {
+            for (std::uint32_t a = 0; a < instances.size(); ++a) {
+                neighbours_.push_back(frames_->neighbours(a));
+                std::sort(neighbours_.back().begin(), neighbours_.back().end());
+            }
+            for (std::uint32_t a = 0; a < instances.size(); ++a)
+                for (const std::uint32_t b : neighbours_[a])
+                    if (b > a && b < instances.size()) add_touches_in_frame(a, b);
+            std::sort(touches_.begin(), touches_.end());
+            components_ = count_components(none, nullptr);
+            return;
+        }
         edge_boxes all;
         std::vector<std::uint32_t> owner;
         for (std::uint32_t k = 0; k < instances.size(); ++k) {
@@ -258,15 +292,13 @@ public:
     void refresh(std::uint32_t x) {
         const auto& inst = *instances_;
         std::erase_if(touches_, [x](const touch& t) { return t.a == x || t.b == x; });
-        const edge_boxes mine = boxes_of(inst[x], nullptr, true);
-        for (std::uint32_t k = 0; k < inst.size(); ++k) {
-            if (k == x) continue;
-            const edge_boxes other = boxes_of(inst[k], nullptr, true);
-            for_each_overlapping_box(mine.boxes, other.boxes, [&](std::size_t i, std::size_t j) {
-                if (edges_touch(inst[x], mine.ids[i], inst[k], other.ids[j]))
-                    touches_.push_back(x < k ? touch{x, mine.ids[i], k, other.ids[j]} : touch{k, other.ids[j], x, mine.ids[i]});
-                return false;
-            });
+        if (frames_) {  // the pairs (a, b), a < b, of the constructor that involve x
+            for (std::uint32_t a = 0; a < x; ++a)
+                if (std::binary_search(neighbours_[a].begin(), neighbours_[a].end(), x)) add_touches_in_frame(a, x);
+            for (const std::uint32_t b : neighbours_[x])
+                if (b > x && b < inst.size()) add_touches_in_frame(x, b);
+        } else {
+            refresh_planar(x);
         }
         std::sort(touches_.begin(), touches_.end());
         for (std::size_t k = 0; k < inst.size(); ++k) first_vertex_[k + 1] = first_vertex_[k] + inst[k].num_vertices();
@@ -279,6 +311,33 @@ public:
     void commit() { components_ = count_components(none, nullptr); }
 
 private:
+    void refresh_planar(std::uint32_t x) {
+        const auto& inst = *instances_;
+        const edge_boxes mine = boxes_of(inst[x], nullptr, true);
+        for (std::uint32_t k = 0; k < inst.size(); ++k) {
+            if (k == x) continue;
+            const edge_boxes other = boxes_of(inst[k], nullptr, true);
+            for_each_overlapping_box(mine.boxes, other.boxes, [&](std::size_t i, std::size_t j) {
+                if (edges_touch(inst[x], mine.ids[i], inst[k], other.ids[j]))
+                    touches_.push_back(x < k ? touch{x, mine.ids[i], k, other.ids[j]} : touch{k, other.ids[j], x, mine.ids[i]});
+                return false;
+            });
+        }
+    }
+
+    /// The touching edge pairs of instances a < b, compared in a's frame.
+    void add_touches_in_frame(std::uint32_t a, std::uint32_t b) {
+        const auto& inst = *instances_;
+        const std::optional<rigid_motion2> pose = frames_->pose(a, b);
+        if (!pose) return;
+        const skeleton moved = moved_copy(inst[b], *pose);
+        const edge_boxes ea = boxes_of(inst[a], nullptr, true), eb = boxes_of(moved, nullptr, true);
+        for_each_overlapping_box(ea.boxes, eb.boxes, [&](std::size_t i, std::size_t j) {
+            if (edges_touch(inst[a], ea.ids[i], moved, eb.ids[j])) touches_.push_back({a, ea.ids[i], b, eb.ids[j]});
+            return false;
+        });
+    }
+
     struct touch {
         std::uint32_t a;
         edge_id edge_a;
@@ -309,6 +368,8 @@ private:
     }
 
     const std::vector<skeleton>* instances_;
+    const instance_frames* frames_ = nullptr;
+    std::vector<std::vector<std::uint32_t>> neighbours_;  // with frames: per instance, sorted
     std::vector<std::uint32_t> first_vertex_;  // global id of each instance's vertex 0, and the total
     std::vector<touch> touches_;
     std::size_t components_ = 0;
@@ -724,9 +785,26 @@ inline void check_input(const std::vector<skeleton>& instances, std::span<const 
 }
 
 /// All four phases for one connected pair (p, q).
+/// Phase 1 with Q given in a frame of its own: Q is moved into P's frame by q_in_p, split there,
+/// and its new vertices moved back (its old ones keep their exact coordinates).
+[[nodiscard]] inline pair_crossings split_at_crossings_in_frames(skeleton& P, skeleton& Q, const rigid_motion2& q_in_p) {
+    skeleton moved = moved_copy(Q, q_in_p);
+    pair_crossings x = split_at_crossings(P, moved);
+    if (x.sites.empty()) return x;
+    const rigid_motion2 back = q_in_p.inverse();
+    for (vertex_id v = 0; v < moved.num_vertices(); ++v) moved.set_position(v, v < Q.num_vertices() ? Q.position(v) : back(moved.position(v)));
+    Q = std::move(moved);
+    return x;
+}
+
 inline void cut_pair(std::vector<skeleton>& instances, std::uint32_t p, std::uint32_t q, const topology_cut_options& opt,
-                     pattern_contacts& contacts, topology_cut_report& report) {
-    const pair_crossings x = split_at_crossings(instances[p], instances[q]);
+                     pattern_contacts& contacts, topology_cut_report& report, const instance_frames* frames = nullptr) {
+    pair_crossings x;
+    if (!frames) {
+        x = split_at_crossings(instances[p], instances[q]);
+    } else if (const std::optional<rigid_motion2> q_in_p = frames->pose(p, q)) {
+        x = split_at_crossings_in_frames(instances[p], instances[q], *q_in_p);
+    }
     if (x.sites.empty()) return;
     contacts.refresh(p);
     contacts.refresh(q);
@@ -761,6 +839,28 @@ inline topology_cut_report topology_cut(std::vector<graph::skeleton_graph<vec2>>
     if (connected_pairs.empty()) return report;
     detail::topocut::pattern_contacts contacts(instances);
     for (const auto& [p, q] : connected_pairs) detail::topocut::cut_pair(instances, p, q, opt, contacts, report);
+    return report;
+}
+
+/// The same cut for instances whose skeletons are each given in a frame of their own (the local
+/// parameterizations of a surface, filigree/surface_topology_cut.hpp): the crossings of a pair
+/// (P, Q) are found with Q moved into P's frame by frames.pose(P, Q) (a pair without a pose is
+/// skipped), and two instances a < b touch when their strips touch in a's frame. Lengths, and so
+/// the clusters, importances and protrusions, do not depend on the frame. New vertices of Q are
+/// given in Q's frame.
+/// @param instances       skeletons, each in its own frame (mm); edited as by topology_cut
+/// @param connected_pairs indices (P, Q) into instances, P != Q, in processing order
+/// @param frames          poses between frames and the neighbours of each instance; must outlive the call
+/// Throws as topology_cut.
+inline topology_cut_report topology_cut_in_frames(std::vector<graph::skeleton_graph<vec2>>& instances,
+                                                  std::span<const std::pair<std::uint32_t, std::uint32_t>> connected_pairs,
+                                                  const instance_frames& frames, const topology_cut_options& opt = {}) {
+    detail::topocut::check_input(instances, connected_pairs, opt);
+    if (!frames.pose || !frames.neighbours) throw invalid_input("topology_cut_in_frames: the frames need a pose and a neighbours function");
+    topology_cut_report report;
+    if (connected_pairs.empty()) return report;
+    detail::topocut::pattern_contacts contacts(instances, &frames);
+    for (const auto& [p, q] : connected_pairs) detail::topocut::cut_pair(instances, p, q, opt, contacts, report, &frames);
     return report;
 }
 

@@ -81,6 +81,13 @@ public:
         incident_.emplace_back();
         return static_cast<vertex_id>(vertices_.size() - 1);
     }
+    /// Moves vertex v (edges follow). Throws invalid_input for an id out of range or a non-finite
+    /// position.
+    void set_position(vertex_id v, const P& position) {
+        if (v >= vertices_.size()) throw invalid_input("skeleton_graph: cannot move vertex " + std::to_string(v) + ": no such vertex");
+        if (!all_finite(position)) throw invalid_input("skeleton_graph: vertex " + std::to_string(v) + " moved to a non-finite position");
+        vertices_[v].position = position;
+    }
     /// Adds the edge u-v; returns its id. Throws invalid_input for an id out of range or u == v.
     edge_id add_edge(vertex_id u, vertex_id v) {
         for (const vertex_id x : {u, v})
