@@ -21,9 +21,9 @@
 /// faces share the points where a contour crosses their common edge; welding uses the grid's
 /// integer coordinates, so a point is one vertex whatever face computed it.
 ///
-/// The paper triangulates T ∩ C by a constrained Delaunay triangulation; ear clipping gives a
-/// constrained triangulation with the same vertices and boundary, not Delaunay (the FEM path
-/// refines its own mesh, filigree/reconstruct.hpp).
+/// bake() ear-clips T ∩ C (a constrained triangulation with the same vertices and boundary, not
+/// Delaunay); bake_per_face, the path of filigrees on surfaces, flips it to the constrained
+/// Delaunay triangulation the paper asks for (Fig. 11c, geometry/cdt.hpp).
 ///
 /// Errors: invalid_input naming the input for a uv count that is not the vertex count, a face out
 /// of range, a non-finite (u, v).
@@ -31,7 +31,8 @@
 /// bake_per_face: the same for contours that come from many charts (filigree elements on a curved
 /// surface, each in its own local parameterization): per face, contours in the face's own frame
 /// (face_frame: origin at corner 0, x along edge 0-1, y in the face's plane, mm, isometric), united
-/// per face (nonzero), clipped to the face, ear-clipped and lifted. Points on a mesh edge computed
+/// per face (nonzero), clipped to the face, triangulated (ear clipping flipped to the constrained
+/// Delaunay triangulation; a face whose ear clipping has a flat triangle keeps it) and lifted. Points on a mesh edge computed
 /// by its two faces are merged when they lie within `weld` mm along the edge (a tolerance rather
 /// than a rounding grid, so that two nearly equal points never straddle a cell border), points at a
 /// corner become one vertex; the per-face booleans run on a fixed grid of 2^-24 mm (face frames
@@ -52,6 +53,7 @@
 #include "fabsynth/core/box.hpp"
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
+#include "fabsynth/geometry/cdt.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/geometry/polygon.hpp"
@@ -191,6 +193,26 @@ struct face_piece {
     return p;
 }
 
+// The constrained Delaunay triangulation of an ear clipping over the same vertex list (vertices
+// the CDT merges, rings touching at a point, are given by the first of them); the ear clipping
+// itself when it has a flat triangle (Clipper's grid can leave collinear ring points).
+[[nodiscard]] inline planar_triangulation delaunay_of(const planar_triangulation& ears) {
+    std::vector<std::uint32_t> vertex_of;
+    planar_triangulation d;
+    try {
+        d = constrained_delaunay(ears, &vertex_of);
+    } catch (const solver_error&) {
+        return ears;
+    }
+    std::vector<std::uint32_t> first(d.vertices.size(), UINT32_MAX);
+    for (std::uint32_t v = 0; v < vertex_of.size(); ++v)
+        if (first[vertex_of[v]] == UINT32_MAX) first[vertex_of[v]] = v;
+    planar_triangulation out;
+    out.vertices = ears.vertices;
+    for (const auto& t : d.triangles) out.triangles.push_back({first[t[0]], first[t[1]], first[t[2]]});
+    return out;
+}
+
 // The t of a point placed on, or at a corner of, edge e (nothing if it is not on e).
 [[nodiscard]] inline std::optional<double> t_on(const place& p, const edge_key& e) {
     if (p.kind == 1 && p.edge == e) return p.t;
@@ -252,7 +274,7 @@ struct face_piece {
                     polygon_intersection({polygon_with_holes{tri, {}}}, polygon_offset(polygon_offset(clipped, -d, 0.1 * d), d, 0.1 * d), grid), weld, grid);
             }
             try {
-                fp.triangles = triangulate(fp.polys);
+                fp.triangles = db::delaunay_of(triangulate(fp.polys));
                 break;
             } catch (const solver_error& e) {
                 if (attempt + 1 == spacing.size()) throw solver_error("bake: face " + std::to_string(f) + ": " + e.what());
