@@ -17,14 +17,17 @@
 /// surface, while every geometric test runs in one local picture. Split vertices are located on
 /// the surface through their instance's own map; one that falls where the map has no face (a
 /// hole of the region or a left-out fold) loses its edges (counted).
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/filigree/surface_space.hpp"
+#include "fabsynth/filigree/synthesis.hpp"
 #include "fabsynth/filigree/topology_cut.hpp"
 #include "fabsynth/geometry/rigid_motion.hpp"
 
@@ -88,11 +91,7 @@ inline surface_cut_report topology_cut_on_surface(const surface_space& s, std::v
         for (std::size_t v = 0; v < sk.picture.size(); ++v) graphs[i].add_vertex(sk.picture[v], sk.widths[v]);
         for (const skeleton_edge& e : sk.edges) graphs[i].add_edge(e[0], e[1]);
     }
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-    const auto adj = s.connectivity();
-    for (std::uint32_t i = 0; i < adj.size(); ++i)
-        for (const std::uint32_t j : adj[i])
-            if (j > i) pairs.emplace_back(i, j);
+    const auto pairs = connected_pairs(s);
 
     surface_cut_report report;
     report.cut = topology_cut_in_frames(graphs, pairs, frames, opt);

@@ -84,8 +84,9 @@ struct synthesis_result {
     return out;
 }
 
-/// Connected pairs (i < j) of the pattern graph.
-[[nodiscard]] inline std::vector<std::pair<std::uint32_t, std::uint32_t>> connected_pairs(const pattern_state& s) {
+/// Connected pairs (i < j) of the pattern graph of any pattern space (planar or on a surface).
+template <pattern_space S>
+[[nodiscard]] std::vector<std::pair<std::uint32_t, std::uint32_t>> connected_pairs(const S& s) {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
     const auto adj = s.connectivity();
     for (std::uint32_t i = 0; i < adj.size(); ++i)
