@@ -5,6 +5,8 @@
 // the same displacements on a written deck.
 #include <catch2/catch.hpp>
 
+#include <signal.h>
+
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -200,6 +202,37 @@ TEST_CASE("solve context results do not depend on the thread count", "[fem][solv
         const static_result all = solve_linear_static(p.m, p.lc, with(method));
         CHECK((one.u - all.u).norm() == 0.0);
     }
+}
+
+namespace {
+void ignore_signal(int) {}
+}  // namespace
+
+// METIS (inside the LDL^T ordering and CHOLMOD's analysis) swaps in its own SIGABRT/SIGTERM
+// handlers and used to give the caller's back as one-shot handlers (SA_RESETHAND), so a tool's
+// cleanup-on-SIGTERM handler was reset by a second signal: the dispositions must come back whole.
+TEST_CASE("a solve leaves the caller's SIGTERM and SIGABRT handlers as they were", "[fem][solvers][context][signals]") {
+    const problem p = cantilever(12, 3);
+    struct sigaction mine {}, old_term {}, old_abrt {};
+    mine.sa_handler = ignore_signal;
+    mine.sa_flags = SA_RESTART;
+    sigemptyset(&mine.sa_mask);
+    ::sigaction(SIGTERM, &mine, &old_term);
+    ::sigaction(SIGABRT, &mine, &old_abrt);
+    for (solver_method method : {solver_method::ldlt, solver_method::cholmod}) {
+        if (!method_available(method)) continue;
+        INFO("method " << method_name(method));
+        solve_options o = with(method);
+        (void)solve_linear_static(p.m, p.lc, o);
+        for (int sig : {SIGTERM, SIGABRT}) {
+            struct sigaction now {};
+            ::sigaction(sig, nullptr, &now);
+            CHECK(now.sa_handler == &ignore_signal);
+            CHECK((now.sa_flags & (SA_RESETHAND | SA_NODEFER)) == 0);
+        }
+    }
+    ::sigaction(SIGTERM, &old_term, nullptr);
+    ::sigaction(SIGABRT, &old_abrt, nullptr);
 }
 
 TEST_CASE("nodal von Mises averages the element stresses at each node", "[fem][stress]") {

@@ -224,7 +224,9 @@ TEST_CASE("singular systems raise solver_error naming the cause", "[fem][solvers
         for (int d = 0; d < 3; ++d) lc3.fixed.push_back({i, d});
     CHECK_THROWS_WITH(solve_linear_static(m, lc3), Catch::Contains("rotation about an axis"));
     // 4. without the support check, LDLT's pivot test catches the mechanism
-    CHECK_THROWS_WITH(solve_linear_static(m, lc3, {.check_supports = false}), Catch::Contains("pivot"));
+    solve_options unchecked;
+    unchecked.check_supports = false;
+    CHECK_THROWS_WITH(solve_linear_static(m, lc3, unchecked), Catch::Contains("pivot"));
     // 5. bad input
     load_case lc4 = lc2;
     lc4.forces.push_back({0, 4, 1.0});  // rotation dof on a solid node

@@ -19,6 +19,8 @@
 #include <Eigen/CholmodSupport>
 #endif
 
+#include <signal.h>
+
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -47,6 +49,27 @@ struct singular_unknown {
 struct unknown_layout {
     std::vector<std::uint32_t> block_start;
     Eigen::MatrixXd near_nullspace;
+};
+
+/// Keeps the process's SIGABRT and SIGTERM dispositions across a call that may run METIS (Eigen's
+/// MetisOrdering, CHOLMOD's analysis). METIS 5 (GKlib's gk_sigtrap / gk_siguntrap) installs its
+/// own handlers with signal() and puts the previous ones back with SysV flags (SA_RESETHAND |
+/// SA_NODEFER), so a caller's cleanup handler became one-shot: a second SIGTERM then killed the
+/// process in the middle of that cleanup. Restoring the saved sigaction records undoes that.
+class keep_signal_dispositions {
+public:
+    keep_signal_dispositions() {
+        for (int i = 0; i < 2; ++i) ::sigaction(signals[i], nullptr, &saved_[i]);
+    }
+    keep_signal_dispositions(const keep_signal_dispositions&) = delete;
+    keep_signal_dispositions& operator=(const keep_signal_dispositions&) = delete;
+    ~keep_signal_dispositions() {
+        for (int i = 0; i < 2; ++i) ::sigaction(signals[i], &saved_[i], nullptr);
+    }
+
+private:
+    static constexpr int signals[2] = {SIGABRT, SIGTERM};  // GKlib's SIGMEM and SIGERR
+    struct sigaction saved_[2]{};
 };
 
 class linear_backend {
@@ -80,7 +103,10 @@ public:
     using ordering = Eigen::AMDOrdering<int>;
 #endif
     explicit ldlt_backend(double pivot_tolerance) : pivot_tolerance_(pivot_tolerance) {}
-    void analyze(const Eigen::SparseMatrix<double>& A) override { s_.analyzePattern(A); }
+    void analyze(const Eigen::SparseMatrix<double>& A) override {
+        const keep_signal_dispositions keep;
+        s_.analyzePattern(A);
+    }
     // The symbolic analysis sizes L: column k holds c_k entries below the diagonal, and the
     // up-looking factorization costs about sum (c_k + 1)^2 operations.
     [[nodiscard]] double predicted_factor_bytes() const override {
@@ -160,7 +186,10 @@ private:
 public:
     void analyze(const Eigen::SparseMatrix<double>& A) override {
         use_huge_pages();
-        s_.analyzePattern(A);
+        {
+            const keep_signal_dispositions keep;
+            s_.analyzePattern(A);
+        }
         if (s_.info() != Eigen::Success) throw solver_error("CHOLMOD symbolic analysis failed (out of memory?)");
         flops_ = s_.analysed_flops();
     }
