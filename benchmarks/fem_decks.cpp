@@ -50,7 +50,14 @@ fem::load_case cantilever_loads(const fem::mesh& m) {
     return lc;
 }
 
-std::string deck_name(int nx, int ny, int nz) { return "c" + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz); }
+std::string deck_name(int nx, int ny, int nz) {
+    std::string name = "c";  // appended, not "c" + std::string&&: GCC 12 warns falsely (-Wrestrict) on that
+    for (const int n : {nx, ny, nz}) {
+        if (name.size() > 1) name += 'x';
+        name += std::to_string(n);
+    }
+    return name;
+}
 
 fs::path deck(int nx, int ny, int nz) {
     const fs::path p = work_dir() / (deck_name(nx, ny, nz) + ".inp");

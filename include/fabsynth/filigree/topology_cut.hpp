@@ -784,7 +784,6 @@ inline void check_input(const std::vector<skeleton>& instances, std::span<const 
     }
 }
 
-/// All four phases for one connected pair (p, q).
 /// Phase 1 with Q given in a frame of its own: Q is moved into P's frame by q_in_p, split there,
 /// and its new vertices moved back (its old ones keep their exact coordinates).
 [[nodiscard]] inline pair_crossings split_at_crossings_in_frames(skeleton& P, skeleton& Q, const rigid_motion2& q_in_p) {
@@ -797,6 +796,7 @@ inline void check_input(const std::vector<skeleton>& instances, std::span<const 
     return x;
 }
 
+/// All four phases for one connected pair (p, q).
 inline void cut_pair(std::vector<skeleton>& instances, std::uint32_t p, std::uint32_t q, const topology_cut_options& opt,
                      pattern_contacts& contacts, topology_cut_report& report, const instance_frames* frames = nullptr) {
     pair_crossings x;

@@ -55,7 +55,9 @@ struct unknown_layout {
 /// MetisOrdering, CHOLMOD's analysis). METIS 5 (GKlib's gk_sigtrap / gk_siguntrap) installs its
 /// own handlers with signal() and puts the previous ones back with SysV flags (SA_RESETHAND |
 /// SA_NODEFER), so a caller's cleanup handler became one-shot: a second SIGTERM then killed the
-/// process in the middle of that cleanup. Restoring the saved sigaction records undoes that.
+/// process in the middle of that cleanup. Restoring the saved sigaction records undoes that. A
+/// SIGTERM that arrives while METIS itself runs still meets METIS's handler and is lost (METIS
+/// returns an error and LDL^T falls back to the natural order).
 class keep_signal_dispositions {
 public:
     keep_signal_dispositions() {
