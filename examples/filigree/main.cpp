@@ -4,7 +4,7 @@
 //   filigree --element E.svg [--element E2.svg[:WEIGHT] ...] (--rect W H | --domain D.svg)
 //            --scale MM --width MM [--rotation DEG | --field-image F.png --field-scale S0 S1]
 //            [--thickness MM] [--material abs|pla] [--no-structure] [--seed S] -o OUT.svg
-//   filigree --element E.svg ... --mesh M.obj [--mesh-size MM] [--region FACES.txt] [--up X Y Z]
+//   filigree --element E.svg ... --mesh M.obj [--mesh-size MM] [--region FACES.txt | --region-curve C.csv] [--up X Y Z]
 //            [--field-scale-file F.txt] --scale MM --width MM [--thickness MM] [--seed S] -o OUT.stl
 //            (on a base surface: on_surface.hpp; OUT.stl, OUT.obj, OUT.png, OUT.json)
 //
@@ -121,6 +121,7 @@ void run_surface_mode(const filigree_tool::surface_request& rq, const std::vecto
     std::vector<fs::path> inputs{rq.mesh};
     for (const auto& e : elements) inputs.emplace_back(e.path);
     if (!rq.region.empty()) inputs.emplace_back(rq.region);
+    if (!rq.region_curve.empty()) inputs.emplace_back(rq.region_curve);
     if (!rq.scale_file.empty()) inputs.emplace_back(rq.scale_file);
     const fs::path out(out_path);
     std::vector<fs::path> outs;
@@ -198,7 +199,13 @@ int main(int argc, char** argv) {
     auto* o_mesh = app.add_option("--mesh", on_mesh.mesh, "base surface (OBJ, STL, PLY, 3MF): synthesize on it instead of a 2D domain")
                        ->check(CLI::ExistingFile);
     app.add_option("--mesh-size", on_mesh.mesh_size, "scale the base mesh so its bounding box's largest side is this many mm (default: as is, mm)");
-    app.add_option("--region", on_mesh.region, "text file of face ids (0-based) of the base mesh to cover (default: all)")->check(CLI::ExistingFile);
+    auto* o_region = app.add_option("--region", on_mesh.region, "text file of face ids (0-based) of the base mesh to cover (default: all)")
+                         ->check(CLI::ExistingFile);
+    app.add_option("--region-curve", on_mesh.region_curve,
+                   "CSV of x,y,z points (the mesh's units, before --mesh-size) of a closed curve on the base mesh, each within 2% of the "
+                   "mesh's diagonal of it: cover the smaller side it encloses")
+        ->check(CLI::ExistingFile)
+        ->excludes(o_region);
     app.add_option("--up", on_mesh.up, "X Y Z: the elements' up vector, projected onto the surface (default 0 0 1)")->expected(3);
     app.add_option("--field-scale-file", on_mesh.scale_file, "text file of one element scale factor per mesh vertex")->check(CLI::ExistingFile);
     o_mesh->excludes(o_rect)->excludes(o_domain)->excludes(o_fimg)->excludes(o_rot);

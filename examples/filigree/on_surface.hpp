@@ -1,5 +1,6 @@
 // The --mesh form of the filigree tool (filigree-synthesis.md §8.1, §6): a filigree on a base
-// surface. Reads the mesh (optionally scaled to --mesh-size), the region (face ids), the up vector
+// surface. Reads the mesh (optionally scaled to --mesh-size), the region (face ids, or a closed
+// curve on the mesh), the up vector
 // and a per-vertex scale file; synthesizes on the surface (filigree/surface_synthesis.hpp), bakes
 // the strips into the mesh (M_b, filigree/surface_reconstruct.hpp) and thickens M_b into a
 // watertight solid (geometry/surface_offset.hpp). Writes OUT.stl (printable solid), OUT.obj (M_b),
@@ -9,6 +10,7 @@
 #include <fabsynth/filigree/surface_reconstruct.hpp>
 #include <fabsynth/filigree/surface_structure.hpp>
 #include <fabsynth/filigree/surface_synthesis.hpp>
+#include <fabsynth/geometry/curve_region.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/geometry/render.hpp>
 #include <fabsynth/geometry/surface_offset.hpp>
@@ -16,6 +18,7 @@
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/mesh_obj.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
+#include <fabsynth/io/points.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -39,7 +42,7 @@ using namespace fabsynth;
 using namespace fabsynth::filigree;
 
 struct surface_request {
-    std::string mesh, region, scale_file;
+    std::string mesh, region, region_curve, scale_file;
     std::vector<double> up{0, 0, 1};
     double mesh_size = 0;  // 0: the mesh is in mm as it is
 };
@@ -117,7 +120,8 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
     progress(0.0, "read mesh");
     triangle_mesh mesh = io::read_mesh(rq.mesh);
     if (mesh.faces.empty()) throw invalid_input(rq.mesh + ": the mesh has no faces");
-    if (rq.mesh_size > 0) fit_to_size(mesh, rq.mesh_size);  // the largest side of the bounding box becomes mesh_size mm
+    size_fit fit;  // the largest side of the bounding box becomes mesh_size mm
+    if (rq.mesh_size > 0) fit = fit_to_size(mesh, rq.mesh_size);
     const surface_patcher patcher(mesh);
     surface_region region = surface_region::whole(patcher);
     if (!rq.region.empty()) {
@@ -128,6 +132,20 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
             ids.push_back(static_cast<std::uint32_t>(x));
         }
         region = surface_region::of_faces(patcher, ids, rq.region);
+    }
+    if (!rq.region_curve.empty()) {
+        std::vector<vec3> curve = io::read_points_csv(rq.region_curve);
+        for (vec3& p : curve) p = fit(p);
+        const box3 bb = bounding_box(mesh);
+        const double reach = 0.02 * glm::length(bb.size());  // points drawn on a coarser copy of the mesh may lie off it
+        std::vector<std::uint32_t> inside;
+        try {
+            inside = faces_inside_curve(mesh, curve, reach);
+        } catch (const invalid_input& e) {  // every message starts "fabsynth: curve region: ": name the file instead
+            const std::string what = e.what();
+            throw invalid_input(rq.region_curve + what.substr(what.find(':', what.find("curve region"))));
+        }
+        region = surface_region::of_faces(patcher, inside, rq.region_curve);
     }
     const vec3 up(rq.up[0], rq.up[1], rq.up[2]);
     const surface_direction_field direction = surface_direction_field::from_up_vector(patcher, up);

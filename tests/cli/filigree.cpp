@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -217,7 +218,58 @@ std::string vase_band(double z0, double z1) {
     return ids.str();
 }
 
+// A closed loop on the side of data/meshes/vase.obj as CSV: angle 0.5 cos t rad around z, height
+// 45 + 15 sin t mm, at the mean radius of the OBJ's vertices within 1 mm of that height. `area`:
+// the loop's developed area (an ellipse of semi-axes 0.5 r(45) and 15 mm).
+std::string vase_loop(double& area) {
+    std::istringstream in(slurp(data_dir / "meshes/vase.obj"));
+    std::vector<std::array<double, 3>> v;
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("v ", 0) == 0) {
+            std::istringstream l(line.substr(2));
+            std::array<double, 3> p{};
+            l >> p[0] >> p[1] >> p[2];
+            v.push_back(p);
+        }
+    auto radius = [&](double z) {
+        double sum = 0;
+        int n = 0;
+        for (const auto& p : v)
+            if (std::abs(p[2] - z) < 1) sum += std::hypot(p[0], p[1]), ++n;
+        return sum / n;
+    };
+    std::ostringstream csv;
+    csv.precision(10);
+    for (int k = 0; k < 32; ++k) {
+        const double t = 2 * std::numbers::pi * k / 32, a = 0.5 * std::cos(t), z = 45 + 15 * std::sin(t), r = radius(z);
+        csv << r * std::cos(a) << "," << r * std::sin(a) << "," << z << "\n";
+    }
+    area = std::numbers::pi * 0.5 * radius(45) * 15;
+    return csv.str();
+}
+
 }  // namespace filigree_cli
+
+TEST_CASE("filigree --mesh --region-curve: the region a loop on the vase encloses", "[cli][filigree][surface]") {
+    using namespace filigree_cli;
+    double loop_area = 0;
+    const std::string curve = write_file("filigree_vase_loop.csv", vase_loop(loop_area));
+    const std::string out = (work_dir / "filigree_vase_loop.stl").string();
+    const result r = run("filigree", {"--element", (data_dir / "filigree/c_scroll.svg").string(), "--mesh", (data_dir / "meshes/vase.obj").string(),
+                                      "--region-curve", curve, "--up", "0", "0", "1", "--scale", "8", "--width", "0.8", "--rounds", "1",
+                                      "--no-structure", "-o", out});
+    INFO("stderr: " << r.err);
+    REQUIRE(r.code == 0);
+    fs::path rep = out;
+    rep.replace_extension(".json");
+    const json j = json::parse(slurp(rep));
+    const double area = j.at("mesh").at("region_area_mm2").get<double>();
+    INFO("region " << area << " mm^2, loop " << loop_area << " mm^2");
+    CHECK(area > 0.8 * loop_area);  // the band along the loop is about one face (2-3 mm) wide
+    CHECK(area < 1.25 * loop_area);
+    CHECK(j.at("instances").get<int>() >= 3);
+    CHECK(j.at("stl_components").get<int>() >= 1);
+}
 
 TEST_CASE("filigree --mesh: a band of the vase, watertight solid, report, same bytes for 1 and 2 threads", "[cli][filigree][surface]") {
     using namespace filigree_cli;
@@ -260,6 +312,8 @@ TEST_CASE("filigree --mesh: bad input is refused with the documented exit code a
     const std::string text_region = write_file("filigree_text_region.txt", "0 1 two\n");
     const std::string short_scale = write_file("filigree_short_scale.txt", "1 1 1\n");
     const std::string broken = write_file("filigree_broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    const std::string tiny_loop = write_file("filigree_tiny_loop.csv", "29,0,45\n29,0.01,45\n29,0,45.01\n");
+    const std::string far_loop = write_file("filigree_far_loop.csv", "29,0,45\n60,0,50\n29,0,55\n");
     auto args = [&](std::vector<std::string> extra) {
         std::vector<std::string> a = {"--element", el, "--scale", "14", "--width", "0.8", "-o", out};
         a.insert(a.end(), extra.begin(), extra.end());
@@ -272,6 +326,9 @@ TEST_CASE("filigree --mesh: bad input is refused with the documented exit code a
              {"an up vector of zero", args({"--mesh", vase, "--up", "0", "0", "0"}), 2, "up vector"},
              {"a mesh indexing a missing vertex", args({"--mesh", broken}), 5, "filigree_broken.obj"},
              {"--mesh with --rect", args({"--mesh", vase, "--rect", "10", "10"}), 2, "excludes"},
+             {"a region curve that encloses nothing", args({"--mesh", vase, "--region-curve", tiny_loop}), 2, "does not separate"},
+             {"a region curve off the mesh", args({"--mesh", vase, "--region-curve", far_loop}), 2, "point 1 lies farther"},
+             {"--region with --region-curve", args({"--mesh", vase, "--region", bad_region, "--region-curve", far_loop}), 2, "excludes"},
          })
         check_case("filigree", c);
     for (const char* ext : {".stl", ".obj", ".png", ".json"}) CHECK_FALSE(fs::exists(work_dir / (std::string("filigree_mesh_bad") + ext)));

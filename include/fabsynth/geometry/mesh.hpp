@@ -113,16 +113,24 @@ inline void rotate_y_up_to_z_up(triangle_mesh& m) noexcept {
     for (vec3& v : m.vertices) v = vec3(v.x, -v.z, v.y);
 }
 
+/// The map p -> (p - origin) * scale that fit_to_size applied (for points given with the mesh).
+struct size_fit {
+    vec3 origin{0.0};
+    double scale = 1.0;
+    [[nodiscard]] vec3 operator()(const vec3& p) const noexcept { return (p - origin) * scale; }
+};
+
 /// Moves the mesh's bounding-box corner to the origin and scales it uniformly so that its longest
-/// side is `size` mm. Throws invalid_input for an empty or flat-in-every-direction mesh or a size
-/// that is not finite and > 0.
-inline void fit_to_size(triangle_mesh& m, double size) {
+/// side is `size` mm; returns that map. Throws invalid_input for an empty or flat-in-every-direction
+/// mesh or a size that is not finite and > 0.
+inline size_fit fit_to_size(triangle_mesh& m, double size) {
     if (!(std::isfinite(size) && size > 0)) throw invalid_input("mesh size must be finite and > 0 mm, got " + std::to_string(size));
     const box3 bb = bounding_box(m);
     const double longest = bb.empty() ? 0.0 : std::max({bb.size().x, bb.size().y, bb.size().z});
     if (!(longest > 0)) throw invalid_input("cannot scale a mesh without extent to a size");
-    const double s = size / longest;
-    for (vec3& v : m.vertices) v = (v - bb.lo) * s;
+    const size_fit fit{bb.lo, size / longest};
+    for (vec3& v : m.vertices) v = fit(v);
+    return fit;
 }
 
 /// The faces f of m with keep[f] != 0, in order, with only the vertices they use (renumbered in
