@@ -141,9 +141,10 @@ nlohmann::ordered_json run_on_surface(const surface_request& rq, std::span<const
         std::vector<std::uint32_t> inside;
         try {
             inside = faces_inside_curve(mesh, curve, reach);
-        } catch (const invalid_input& e) {  // every message starts "fabsynth: curve region: ": name the file instead
+        } catch (const invalid_input& e) {  // "fabsynth: curve region: ...": name the file instead
             const std::string what = e.what();
-            throw invalid_input(rq.region_curve + what.substr(what.find(':', what.find("curve region"))));
+            const std::size_t at = what.find("curve region: ");
+            throw invalid_input(rq.region_curve + ": " + (at == std::string::npos ? what : what.substr(at + 14)));
         }
         region = surface_region::of_faces(patcher, inside, rq.region_curve);
     }
