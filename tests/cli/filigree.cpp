@@ -268,7 +268,7 @@ TEST_CASE("filigree --mesh --region-curve: the region a loop on the vase enclose
     CHECK(area > 0.8 * loop_area);  // the band along the loop is about one face (2-3 mm) wide
     CHECK(area < 1.25 * loop_area);
     CHECK(j.at("instances").get<int>() >= 3);
-    CHECK(j.at("stl_components").get<int>() >= 1);
+    CHECK(j.at("stl_components") == 1);  // the patch prints as one piece
 }
 
 TEST_CASE("filigree --mesh: a band of the vase, watertight solid, report, same bytes for 1 and 2 threads", "[cli][filigree][surface]") {

@@ -4,8 +4,8 @@
 /// (a user region given by its outline, as in filigree-synthesis.md §7.2's regions).
 ///
 /// Usage:
-///   std::vector<vec3> outline = ...;                          // closed: the last point joins the first
-///   auto faces = fabsynth::faces_inside_curve(mesh, outline);  // increasing face ids
+///   std::vector<vec3> outline = ...;                               // closed: the last point joins the first
+///   auto faces = fabsynth::faces_inside_curve(mesh, outline, 1.0);  // points within 1 mm of the mesh; increasing face ids
 ///
 /// How: every curve point is projected onto the mesh (closest point); each segment between two
 /// consecutive projections is bisected, its midpoints projected in turn, until the faces of
@@ -109,19 +109,15 @@ inline void trace_segment(const mesh_distance& md, const triangle_mesh& m, vec3 
     const std::vector<std::uint8_t> band = cr::traced_band(m, curve, max_offset);
     const std::vector<std::uint32_t> side = cr::sides(m, band);
 
-    std::unordered_map<std::uint32_t, double> area;  // the sides that touch the band, by root face
     std::vector<std::uint8_t> on_band_vertex(m.vertices.size(), 0);
     for (std::uint32_t f = 0; f < m.faces.size(); ++f)
         if (band[f])
             for (const std::uint32_t v : m.faces[f]) on_band_vertex[v] = 1;
+    std::unordered_map<std::uint32_t, double> area;  // the sides that touch the band, by root face
     for (std::uint32_t f = 0; f < m.faces.size(); ++f)
         if (!band[f] && (on_band_vertex[m.faces[f][0]] || on_band_vertex[m.faces[f][1]] || on_band_vertex[m.faces[f][2]])) area[side[f]] = 0;
     for (std::uint32_t f = 0; f < m.faces.size(); ++f)
-        if (!band[f])
-            if (const auto it = area.find(side[f]); it != area.end()) {
-                const auto& c = m.faces[f];
-                it->second += 0.5 * glm::length(glm::cross(m.vertices[c[1]] - m.vertices[c[0]], m.vertices[c[2]] - m.vertices[c[0]]));
-            }
+        if (const auto it = band[f] ? area.end() : area.find(side[f]); it != area.end()) it->second += 0.5 * glm::length(face_normal_area2(m, f));
     if (area.size() < 2) throw invalid_input("curve region: the curve does not separate the surface (it encloses no part of it)");
     std::uint32_t outside = UINT32_MAX;  // the largest side; ties: the lowest root face
     double largest = -1.0;
