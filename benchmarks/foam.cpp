@@ -1,5 +1,6 @@
 // Procedural Voronoi foam throughput (issue 4): exact tiled slicer on 1 and 2 threads, the paper's
-// Algorithm 1 as a baseline on a 100 x 100 sub-slice, and random-access point evaluation.
+// Algorithm 1 as a baseline on a 100 x 100 sub-slice, and random-access point evaluation; issue 17:
+// per-point queries in row order, at random, in a batch, next to a cellular-noise reference.
 // Configuration: 1000 x 1000 slice at 0.05 mm pixels (50 x 50 mm), tau = 0.25 mm, density graded
 // linearly in x from 0.01 to 0.5 seeds/mm^3, coarse cell 5 mm (so 0.01 is above the 1/L^3 clamp).
 // Every benchmark reports items_per_second (pixels or points); BM_FoamSliceExact_100x100 also
@@ -90,6 +91,23 @@ void BM_FoamSlice_1000x1000(benchmark::State& state) {
 }
 BENCHMARK(BM_FoamSlice_1000x1000)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// A stack of 200 slices at 0.05 mm through the same 50 x 50 mm region (for_each_slice: the edges
+// of each tile column built once per slab of one 5 mm cell), streamed to a sink.
+void BM_FoamSliceStack_1000x1000(benchmark::State& state) {
+    const auto& f = bench_foam();
+    set_num_threads(static_cast<unsigned>(state.range(0)));
+    std::vector<double> zs(200);
+    for (std::size_t k = 0; k < zs.size(); ++k) zs[k] = 20 + 0.05 * static_cast<double>(k);
+    for (auto _ : state) {
+        long solid = 0;
+        f.for_each_slice(zs, {{0, 0}, {50, 50}}, 0.05, [&](std::size_t, image8& img) { solid += img.data[img.data.size() / 2]; });
+        benchmark::DoNotOptimize(solid);
+    }
+    set_num_threads(0);
+    state.SetItemsProcessed(state.iterations() * 200 * 1000000);
+}
+BENCHMARK(BM_FoamSliceStack_1000x1000)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // Same 100 x 100 sub-slice for both: at the sparse end (x in [0, 5] mm), where Algorithm 1 gathers
 // the fewest seeds; elsewhere it is slower still. Algorithm 1 takes ~20 ms per point here, so it
 // runs on every 4th pixel of the sub-slice in x and y (625 points, ~15 s); it also counts how
@@ -167,5 +185,158 @@ void BM_FoamPointRandom(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_FoamPointRandom);
+
+// ---- issue 17: per-point queries at cellular-noise speed -------------------------------------
+// Configuration of the issue: a 400 x 400 pixel grid at 0.05 mm, density graded 0.02 -> 0.4
+// seeds/mm^3 over 20 mm, tau 0.25 mm, cell 4 mm; random points in a 40 mm cube. Arg = threads.
+
+const voronoi_foam<linear_field, constant_field>& point_foam() {
+    static const voronoi_foam f(linear_field{0, 0.02, 0.4, 0, 20}, constant_field{0.25}, {.cell = 4, .seed = 2016});
+    return f;
+}
+
+const std::vector<vec3>& cube_points() {
+    static const std::vector<vec3> pts = [] {
+        std::vector<vec3> p;
+        counter_rng rng(17, 0);
+        for (int i = 0; i < 1000000; ++i) p.push_back(vec3(rng.uniform(0, 40), rng.uniform(0, 40), rng.uniform(0, 40)));
+        return p;
+    }();
+    return pts;
+}
+
+// contains() pixel by pixel in row order, rows spread over the threads.
+void BM_FoamPointRowOrder(benchmark::State& state) {
+    set_num_threads(static_cast<unsigned>(state.range(0)));
+    const auto& f = point_foam();
+    std::vector<long> solid(400);
+    for (auto _ : state) {
+        parallel_for(0, 400, [&](std::size_t j) {
+            long n = 0;
+            for (int i = 0; i < 400; ++i) n += f.contains(vec3(0.025 + 0.05 * i, 0.025 + 0.05 * static_cast<double>(j), 10.0));
+            solid[j] = n;
+        });
+        benchmark::DoNotOptimize(solid.data());
+    }
+    set_num_threads(0);
+    state.SetItemsProcessed(state.iterations() * 160000);
+}
+BENCHMARK(BM_FoamPointRowOrder)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// contains() at random points of a 40 mm cube, one call per point, points split over the threads.
+void BM_FoamPointRandomCube(benchmark::State& state) {
+    set_num_threads(static_cast<unsigned>(state.range(0)));
+    const auto& f = point_foam();
+    const auto& pts = cube_points();
+    std::vector<long> solid(64);
+    auto pass = [&] {  // 64 runs of consecutive points (each a random position)
+        parallel_for(0, 64, [&](std::size_t c) {
+            long n = 0;
+            for (std::size_t i = c * pts.size() / 64; i < (c + 1) * pts.size() / 64; ++i) n += f.contains(pts[i]);
+            solid[c] = n;
+        });
+    };
+    pass();  // warm: every thread's cache holds the cube's blocks (1000 blocks of a 4 mm cell)
+    for (auto _ : state) {
+        pass();
+        benchmark::DoNotOptimize(solid.data());
+    }
+    set_num_threads(0);
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(pts.size()));
+}
+BENCHMARK(BM_FoamPointRandomCube)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+
+// The batch API on the same random points (sorted by block inside).
+void BM_FoamPointBatch(benchmark::State& state) {
+    set_num_threads(static_cast<unsigned>(state.range(0)));
+    const auto& f = point_foam();
+    const auto& pts = cube_points();
+    std::vector<std::uint8_t> out(pts.size());
+    for (auto _ : state) {
+        f.contains(pts, out);
+        benchmark::DoNotOptimize(out.data());
+    }
+    set_num_threads(0);
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(pts.size()));
+}
+BENCHMARK(BM_FoamPointBatch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+
+// The issue's grid as one slice, and as a stack of 200 slices at 0.05 mm (for_each_slice).
+void BM_FoamPointGridSlice(benchmark::State& state) {
+    set_num_threads(static_cast<unsigned>(state.range(0)));
+    const auto& f = point_foam();
+    double z = 10;
+    for (auto _ : state) {
+        image8 img = f.slice(z, {{0, 0}, {20, 20}}, 0.05);
+        benchmark::DoNotOptimize(img.data.data());
+        z += 0.05;
+    }
+    set_num_threads(0);
+    state.SetItemsProcessed(state.iterations() * 160000);
+}
+BENCHMARK(BM_FoamPointGridSlice)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_FoamPointGridStack(benchmark::State& state) {
+    set_num_threads(static_cast<unsigned>(state.range(0)));
+    const auto& f = point_foam();
+    std::vector<double> zs(200);
+    for (std::size_t k = 0; k < zs.size(); ++k) zs[k] = 10 + 0.05 * static_cast<double>(k);
+    for (auto _ : state) {
+        long solid = 0;
+        f.for_each_slice(zs, {{0, 0}, {20, 20}}, 0.05, [&](std::size_t, image8& img) { solid += img.data[img.data.size() / 2]; });
+        benchmark::DoNotOptimize(solid);
+    }
+    set_num_threads(0);
+    state.SetItemsProcessed(state.iterations() * 200 * 160000);
+}
+BENCHMARK(BM_FoamPointGridStack)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// contains_uncached(): the pieces of the query's own small cube (what a cache miss costs).
+void BM_FoamPointUncached(benchmark::State& state) {
+    const auto& f = point_foam();
+    const auto& pts = cube_points();
+    std::size_t i = 0;
+    long solid = 0;
+    for (auto _ : state) solid += f.contains_uncached(pts[i++ % pts.size()]);
+    benchmark::DoNotOptimize(solid);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_FoamPointUncached)->Unit(benchmark::kMillisecond);
+
+// The reference an embedder compares with: 3D cellular noise F2 - F1 (Euclidean) on a jittered
+// grid, one feature point per unit cell, 27-cell search, written here (FastNoiseLite is not in
+// Debian; this is the same algorithm, not its code), on the same 400 x 400 grid at a frequency
+// of 0.25 / mm (a 4 mm feature cell, the foam's coarse cell).
+float cellular_f2_minus_f1(double x, double y, double z) {
+    const int xi = static_cast<int>(std::floor(x)), yi = static_cast<int>(std::floor(y)), zi = static_cast<int>(std::floor(z));
+    double f1 = 1e9, f2 = 1e9;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const std::uint64_t h = hash64(1337, xi + dx, yi + dy, zi + dz);
+                const double px = xi + dx + static_cast<double>(h & 0xffff) / 65536.0, py = yi + dy + static_cast<double>((h >> 16) & 0xffff) / 65536.0,
+                             pz = zi + dz + static_cast<double>((h >> 32) & 0xffff) / 65536.0;
+                const double d = (px - x) * (px - x) + (py - y) * (py - y) + (pz - z) * (pz - z);
+                if (d < f1) f2 = f1, f1 = d;
+                else if (d < f2) f2 = d;
+            }
+    return static_cast<float>(std::sqrt(f2) - std::sqrt(f1));
+}
+
+void BM_CellularNoiseReference(benchmark::State& state) {
+    set_num_threads(static_cast<unsigned>(state.range(0)));
+    std::vector<double> sums(400);
+    for (auto _ : state) {
+        parallel_for(0, 400, [&](std::size_t j) {
+            double s = 0;
+            for (int i = 0; i < 400; ++i) s += cellular_f2_minus_f1(0.25 * (0.025 + 0.05 * i), 0.25 * (0.025 + 0.05 * static_cast<double>(j)), 2.5);
+            sums[j] = s;
+        });
+        benchmark::DoNotOptimize(sums.data());
+    }
+    set_num_threads(0);
+    state.SetItemsProcessed(state.iterations() * 160000);
+}
+BENCHMARK(BM_CellularNoiseReference)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

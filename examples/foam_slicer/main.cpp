@@ -178,13 +178,12 @@ int main(int argc, char** argv) {
                 common.summary({{"command", "seeds"}, {"seeds", seeds.size()}, {"outputs", {out}}});
             } else {
                 const auto pts = io::read_points_csv(points);
-                std::vector<char> r(pts.size());
-                parallel_for(0, pts.size(), [&](std::size_t i) { r[i] = f.contains(pts[i]) ? '1' : '0'; },
-                             {.grain = 256});
+                std::vector<std::uint8_t> r(pts.size());
+                f.contains(pts, r);  // the batch query: visited block by block, in parallel
                 std::string text;
                 text.reserve(2 * pts.size());
                 std::size_t inside = 0;
-                for (char c : r) text += c, text += '\n', inside += c == '1';
+                for (const std::uint8_t c : r) text += c ? '1' : '0', text += '\n', inside += c;
                 io::detail::atomic_write(out_file, text);
                 outputs.commit();
                 common.say("foam_slicer eval: " + std::to_string(inside) + " of " + std::to_string(pts.size()) + " points solid -> " + out);
@@ -263,8 +262,10 @@ int main(int argc, char** argv) {
             const double px = std::ceil(bb.size().x / pixel + 2) * std::ceil(bb.size().y / pixel + 2);
             char what[160];
             std::snprintf(what, sizeof what, "a stack of %.0f slices of %.3g pixels (%.3g mm) at supersample %d", slices, px, pixel, supersample);
-            // a slice, the four preview copies, the PNG encoder's buffer and the side-by-side preview
-            tool::require_memory(px * (2.0 + 4 + 2 + 4), max_memory_gib, what);
+            // the slab of slices rendered at once, the four preview copies, the PNG encoder's buffer
+            // and the side-by-side preview
+            const double slab = std::max(px, std::min(slices * px, static_cast<double>(slice_options{}.slab_bytes)));
+            tool::require_memory(slab + px * (4 + 2 + 4), max_memory_gib, what);
             tool::require_work(slices * px * supersample * supersample, max_pixels, slice_pixels_per_second, "pixel evaluations", "--max-pixels", what);
         }
         const slice_stack stack = plan_slice_stack(bb, pixel, layer, nslices);
@@ -292,21 +293,26 @@ int main(int argc, char** argv) {
         double total_ms = 0;
         std::vector<image8> preview;
         nlohmann::ordered_json files = nlohmann::ordered_json::array();
-        for (std::size_t s = 0; s < which.size(); ++s) {
-            const double z = stack.z(which[s]);
-            const auto t0 = std::chrono::steady_clock::now();
-            const image8 img = obj.slice(z, region, pixel, so);
-            total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        // the stack is rendered a slab at a time (the edges of each tile column once per slab);
+        // each slice is written as it is handed over, in order
+        std::vector<double> heights;
+        for (int k : which) heights.push_back(stack.z(k));
+        double emit_ms = 0;
+        const auto t0 = std::chrono::steady_clock::now();
+        obj.for_each_slice(heights, region, pixel, [&](std::size_t s, image8& img) {
+            const auto e0 = std::chrono::steady_clock::now();
             pixels += img.data.size();
             for (auto v : img.data) solid += v;
             char name[64];
             std::snprintf(name, sizeof name, "slice_%05d.png", which[s]);
             io::write_png(staged_slices[s], img, {.pixel_mm = pixel});
-            files.push_back({{"layer", which[s]}, {"z_mm", z}, {"file", name}});
+            files.push_back({{"layer", which[s]}, {"z_mm", heights[s]}, {"file", name}});
             // preview: 4 slices spread over the stack
             if (preview.size() < 4 && s == (preview.size() * which.size()) / 4) preview.push_back(img);
             progress(static_cast<double>(s + 1) / static_cast<double>(which.size()), "slices");
-        }
+            emit_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
+        }, so);
+        total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - emit_ms;
         // preview: up to 4 slices side by side, +y up
         if (!preview.empty())
             io::write_png(preview_png, side_by_side(preview, 4, std::uint8_t{128}, true), {.pixel_mm = pixel});

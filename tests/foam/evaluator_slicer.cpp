@@ -1,6 +1,7 @@
 // The fast slicer paths of evaluator.hpp: run filling for a constant radius, per-pixel tests for
-// a varying one, tile sizes, and the adaptive seed margin of gather(), each against contains()
-// (one-point boxes, a different gather) and the independent Voronoi construction.
+// a varying one, tile sizes, stacks of slices (edges per slab), and the adaptive seed margin of
+// gather(), each against contains() (one-point boxes, a different gather), single slices and the
+// independent Voronoi construction.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -63,6 +64,51 @@ TEST_CASE("foam slice equals contains() with a varying radius (per-pixel path)",
     CHECK(a == b);
     CHECK(solid_pixels(a) > static_cast<long>(a.data.size()) / 10);
     CHECK(slice_vs_contains(f, a, z, region, pix) == 0);
+}
+
+TEST_CASE("foam stacks of slices equal slice-by-slice images for 1 and 2 threads", "[foam][stack]") {
+    // constant radius (run filling) over two slabs of a 5 mm cell, and a varying radius with
+    // supersampling; each also with slabs cut to 3 slices by the image budget
+    const voronoi_foam f(linear_field{0, 0.01, 0.5, 0, 50}, constant_field{0.25}, {.cell = 5, .seed = 2016});
+    const voronoi_foam g(linear_field{0, 0.05, 2.0, 0, 10}, linear_field{1, 0.08, 0.3, 0, 10}, {.cell = 2, .seed = 31});
+    const box2 region({20, 20}, {30, 23});
+    const auto check = [&](const auto& foam, double z0, double dz, int count, slice_options so) {
+        for (unsigned threads : {1u, 2u}) {
+            set_num_threads(threads);
+            for (std::size_t slab : {std::size_t(256) << 20, std::size_t(3) * 200 * 60}) {
+                so.slab_bytes = slab;
+                const std::vector<image8> stack = foam.slices(z0, dz, count, region, 0.05, so);
+                REQUIRE(stack.size() == static_cast<std::size_t>(count));
+                long differ = 0, solid = 0;
+                for (int k = 0; k < count; ++k) {
+                    const image8 one = foam.slice(z0 + k * dz, region, 0.05, so);
+                    differ += stack[static_cast<std::size_t>(k)] != one;
+                    solid += solid_pixels(one);
+                }
+                INFO(threads << " threads, slab budget " << slab << " bytes, " << solid << " solid pixels");
+                CHECK(differ == 0);
+                CHECK(solid > count * 200L * 60 / 20);
+            }
+        }
+        set_num_threads(0);
+    };
+    check(f, 17.513, 0.05, 120, {});                    // 6 mm: slabs of one 5 mm cell and the rest
+    check(g, 3.01, 0.07, 30, {.supersample = 2});       // varying radius, 2 x 2 samples per pixel
+    // a stack of heights handed out in order, and its bad input
+    std::vector<double> zs{1.0, 1.5, 9.0};
+    std::vector<std::size_t> order;
+    f.for_each_slice(zs, region, 0.05, [&](std::size_t k, image8& img) {
+        order.push_back(k);
+        CHECK(img == f.slice(zs[k], region, 0.05));
+    });
+    CHECK(order == std::vector<std::size_t>{0, 1, 2});
+    const auto ignore = [](std::size_t, image8&) {};
+    CHECK_THROWS_AS(f.for_each_slice(std::vector<double>{}, region, 0.05, ignore), invalid_input);
+    CHECK_THROWS_AS(f.for_each_slice(std::vector<double>{1.0, 1.0}, region, 0.05, ignore), invalid_input);
+    CHECK_THROWS_AS(f.for_each_slice(std::vector<double>{1.0, NAN}, region, 0.05, ignore), invalid_input);
+    CHECK_THROWS_AS(f.slices(0, 0, 3, region, 0.05), invalid_input);
+    CHECK_THROWS_AS(f.slices(0, 0.1, 0, region, 0.05), invalid_input);
+    CHECK_THROWS_AS(f.slices(NAN, 0.1, 2, region, 0.05), invalid_input);
 }
 
 TEST_CASE("foam evaluator with a thin dense layer (seed margin grows over several passes)", "[foam]") {

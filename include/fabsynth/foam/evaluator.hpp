@@ -9,8 +9,13 @@
 ///    gather that applies it per sub-box;
 ///  - detail/voronoi_edges.hpp: the exact Voronoi edge pieces inside a box (cells of the gathered
 ///    seeds clipped by bisectors, detail/polytope.hpp; each edge emitted once);
-///  - detail/slicer.hpp: the tiled parallel slicer (a seed cache per slice, edges once per tile,
-///    row intervals per edge and run filling for a constant radius), O(slice) memory.
+///  - detail/canonical_piece.hpp: an edge piece whose distance to a point is computed from its
+///    seeds, so the pieces of two different boxes give the same bits;
+///  - detail/point_cache.hpp: point queries answered from the binned edge pieces of their coarse
+///    cell grown by the maximum radius (a "block"), kept in a per-thread cache;
+///  - detail/slicer.hpp: the tiled parallel slicer (a seed cache per slab of slices, edges once
+///    per tile column and slab, row intervals per edge and run filling for a constant radius),
+///    O(slab) memory.
 /// Every answer is exact (floating-point rounding of ~1e-13 mm aside), so point queries, coverage
 /// and slices agree, and slices are bit-identical for any thread count and tile size.
 ///
@@ -24,11 +29,13 @@
 ///   voronoi_foam f(linear_field{0, 0.01, 0.5, 0, 50}, constant_field{0.25}, {.cell = 5, .seed = 1});
 ///   bool solid = f.contains({1, 2, 3});
 ///   fabsynth::image8 img = f.slice(10.0, {{0, 0}, {50, 50}}, 0.05);   // 1000 x 1000, 255 = solid
+///   f.for_each_slice(heights, {{0, 0}, {50, 50}}, 0.05, [](std::size_t k, fabsynth::image8& img) { ... });
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -40,6 +47,7 @@
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/foam/detail/certificate.hpp"
+#include "fabsynth/foam/detail/point_cache.hpp"
 #include "fabsynth/foam/detail/slicer.hpp"
 #include "fabsynth/foam/detail/voronoi_edges.hpp"
 #include "fabsynth/foam/detail/workspace.hpp"
@@ -56,12 +64,23 @@ struct foam_options {
     double max_density = 1e300;  ///< extra density cap, seeds/mm^3 (the full-block bound always applies)
     double max_radius = 0;       ///< bound on tau(x), mm; 0 = Radius::max_value() (required otherwise)
     i64vec3 period{0};           ///< periodic foam: coarse cells per period per axis (seeds.hpp); 0 = aperiodic
+    /// Bytes of Voronoi edge blocks each thread keeps for point queries (contains, distance_to_edges,
+    /// coverage; detail/point_cache.hpp); a thread holds at most this plus one block. 0 keeps only
+    /// the block of the latest query. Answers do not depend on it.
+    std::size_t point_cache_bytes = std::size_t(128) << 20;
+};
+
+/// What the calling thread's point-query cache holds (detail/point_cache.hpp): bytes, blocks, and
+/// the largest block's bytes (the cache stays within its budget plus one block).
+struct point_cache_stats {
+    std::size_t bytes = 0, blocks = 0, largest_block_bytes = 0;
 };
 
 /// Options of slice().
 struct slice_options {
     int supersample = 1;  ///< s: s x s samples per pixel; pixel value = round(255 * covered fraction)
     int tile = 128;       ///< tile side in pixels (work unit of parallel_for); any value gives the same image
+    std::size_t slab_bytes = std::size_t(256) << 20;  ///< for_each_slice: images held at once (at least one)
 };
 
 namespace detail {
@@ -117,56 +136,97 @@ public:
     }
 
     /// Distance from q to the Voronoi edges if it is <= r (0 < r <= cell), else +infinity.
+    /// r <= max_radius() is answered from q's cached block when there is one; a larger r builds
+    /// the edges of the cube q +- r for this call.
     [[nodiscard]] double distance_to_edges(const vec3& q, double r) const {
         if (!(r > 0 && r <= opt_.cell)) throw invalid_input("foam distance_to_edges: r must be in (0, cell]");
-        thread_local detail::foam_workspace ws;
-        double best = r * r;
-        bool found = false;
-        for_each_edge(box3(q - vec3(r), q + vec3(r)), ws, [&](const vec3& a, const vec3& b) {
-            const double d2 = segment_distance2(q, a, b);
-            if (d2 <= best) best = d2, found = true;
-            return true;
-        });
-        return found ? std::sqrt(best) : std::numeric_limits<double>::infinity();
+        if (r <= opt_.max_radius)
+            if (const detail::edge_block* b = block_for(q)) {
+                const double d2 = b->nearest2(q, r);
+                return std::isinf(d2) ? d2 : std::sqrt(d2);
+            }
+        return nearest_near(q, r);
     }
 
-    /// F(q): true iff the distance from q to the Voronoi edges is <= tau(q).
+    /// F(q): true iff the distance from q to the Voronoi edges is <= tau(q). Repeated calls near
+    /// each other reuse the edge pieces of their block (detail/point_cache.hpp), per thread.
     [[nodiscard]] bool contains(const vec3& q) const {
         const double t = radius(q);
-        thread_local detail::foam_workspace ws;
-        bool solid = false;
-        const double t2 = t * t;
-        for_each_edge(box3(q - vec3(t), q + vec3(t)), ws, [&](const vec3& a, const vec3& b) {
-            if (segment_distance2(q, a, b) <= t2) solid = true;
-            return !solid;
+        if (const detail::edge_block* b = block_for(q)) return b->any_within(q, t);
+        return solid_near(q, t);
+    }
+
+    /// contains() without the cache: the edge pieces of the cube q +- tau(q) alone, built for this
+    /// call (the same bits, detail/canonical_piece.hpp; for tests, and for callers that must not
+    /// keep memory between calls).
+    [[nodiscard]] bool contains_uncached(const vec3& q) const {
+        const double t = radius(q);
+        return solid_near(q, t);
+    }
+
+    /// distance_to_edges() without the cache (the same bits).
+    [[nodiscard]] double distance_to_edges_uncached(const vec3& q, double r) const {
+        if (!(r > 0 && r <= opt_.cell)) throw invalid_input("foam distance_to_edges_uncached: r must be in (0, cell]");
+        return nearest_near(q, r);
+    }
+
+    /// The calling thread's point-query cache (shared by the foams of this type).
+    [[nodiscard]] static point_cache_stats point_cache() {
+        const detail::edge_block_cache& c = thread_cache();
+        return {c.bytes(), c.size(), c.largest_block_bytes()};
+    }
+
+    /// contains() for many points: out[i] = contains(points[i]) (1 or 0). The points are visited
+    /// block by block (sorted by coarse cell), the blocks spread over the threads, so scattered
+    /// points recover the cache's coherence; results do not depend on the thread count. Throws
+    /// invalid_input for spans of different sizes, and as contains().
+    void contains(std::span<const vec3> points, std::span<std::uint8_t> out) const {
+        if (points.size() != out.size())
+            throw invalid_input("foam contains: " + std::to_string(points.size()) + " points but " + std::to_string(out.size()) + " results");
+        std::vector<std::pair<i64vec3, std::uint32_t>> order(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) order[i] = {coarse_cell_of(points[i], opt_.cell), static_cast<std::uint32_t>(i)};
+        std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+            if (a.first.z != b.first.z) return a.first.z < b.first.z;
+            if (a.first.y != b.first.y) return a.first.y < b.first.y;
+            if (a.first.x != b.first.x) return a.first.x < b.first.x;
+            return a.second < b.second;
         });
-        return solid;
+        std::vector<std::size_t> runs;  // starts of equal-cell runs, and the end
+        for (std::size_t i = 0; i < order.size(); ++i)
+            if (i == 0 || order[i].first != order[i - 1].first) runs.push_back(i);
+        runs.push_back(order.size());
+        parallel_for(0, runs.size() - 1, [&](std::size_t r) {
+            for (std::size_t i = runs[r]; i < runs[r + 1]; ++i) {
+                const std::uint32_t p = order[i].second;
+                out[p] = contains(points[p]) ? 1 : 0;
+            }
+        });
     }
 
     /// Supersampled coverage in [0,1] (grayscale exposure, paper §3.2): the fraction of the s^3
-    /// cell-centred samples of the cube of side `voxel` (mm) centred at q that are solid.
+    /// cell-centred samples of the cube of side `voxel` (mm) centred at q that are solid
+    /// (each sample decided as contains() decides it).
     [[nodiscard]] double coverage(const vec3& q, double voxel, int s) const {
         require_positive(voxel, "foam coverage voxel size");
         if (s < 1 || s > 64) throw invalid_input("foam coverage: supersampling must be in [1, 64]");
-        thread_local detail::foam_workspace ws;
         const double half = 0.5 * voxel;
-        ws.edges.clear();
-        for_each_edge(box3(q - vec3(half + opt_.max_radius), q + vec3(half + opt_.max_radius)), ws,
-                      [&](const vec3& a, const vec3& b) {
-                          ws.edges.push_back({a, b});
-                          return true;
-                      });
+        // one gather for all samples: the pieces of the voxel grown by the maximum radius hold the
+        // ball of every sample's radius, so each sample gets contains()'s bits (canonical_piece.hpp)
+        thread_local detail::foam_workspace ws;
+        thread_local std::vector<detail::canonical_piece> near;
+        near.clear();
+        detail::for_each_voronoi_piece(box3(q - vec3(half + opt_.max_radius), q + vec3(half + opt_.max_radius)), gen_, opt_.max_radius, id_, ws,
+                                       [&](const detail::canonical_piece& p, const vec3&, const vec3&) {
+                                           near.push_back(p);
+                                           return true;
+                                       });
         int count = 0;
         for (int k = 0; k < s; ++k)
             for (int j = 0; j < s; ++j)
                 for (int i = 0; i < s; ++i) {
                     const vec3 p = q - vec3(half) + voxel * (vec3(i, j, k) + 0.5) / double(s);
                     const double t = radius(p), t2 = t * t;
-                    for (const edge_segment& e : ws.edges)
-                        if (segment_distance2(p, e.a, e.b) <= t2) {
-                            ++count;
-                            break;
-                        }
+                    count += std::any_of(near.begin(), near.end(), [&](const detail::canonical_piece& e) { return detail::distance2(e, p) <= t2; });
                 }
         return double(count) / double(s * s * s);
     }
@@ -195,28 +255,48 @@ public:
     /// Fills img (already sized) with the slice whose pixel (0,0) has its low corner at `origin`.
     void slice_into(image8& img, double z, const vec2& origin, double pixel, slice_options so = {}) const {
         require_finite(z, "foam slice z");
-        require_positive(pixel, "foam slice pixel size");
-        if (!all_finite(origin)) throw invalid_input("foam slice: region corner is not finite");
-        if (so.supersample < 1 || so.supersample > 16) throw invalid_input("foam slice: supersample must be in [1, 16]");
-        if (so.tile < 8 || so.tile > 1024) throw invalid_input("foam slice: tile must be in [8, 1024]");
-        if (img.channels != 1) throw invalid_input("foam slice: image must have one channel");
-        const int T = so.tile;
-        const int tx = (img.width + T - 1) / T, ty = (img.height + T - 1) / T;
-        detail::seed_cache cache;
-        detail::fill_seed_cache(cache, gen_, opt_.max_radius, z, origin, img.width, img.height, pixel, T);
-        constexpr bool constant_tau = std::is_same_v<Radius, constant_field>;
-        parallel_for(0, static_cast<std::size_t>(tx) * static_cast<std::size_t>(ty), [&](std::size_t t) {
-            thread_local detail::foam_workspace ws;
-            ws.cache = cache.start.empty() ? nullptr : &cache;
-            struct reset {
-                detail::foam_workspace& w;
-                ~reset() { w.cache = nullptr; }
-            } guard{ws};
-            const int i0 = static_cast<int>(t % static_cast<std::size_t>(tx)) * T;
-            const int j0 = static_cast<int>(t / static_cast<std::size_t>(tx)) * T;
-            detail::render_tile<constant_tau>(*this, img, z, origin, pixel, i0, j0, std::min(T, img.width - i0),
-                                              std::min(T, img.height - j0), so.supersample, ws);
-        });
+        render_slab(std::span<const double>(&z, 1), origin, pixel, so, std::span<image8>(&img, 1));
+    }
+
+    /// A stack of slices at the increasing heights zs (mm), each the image slice(zs[k], region,
+    /// pixel, so) would give, handed to emit(k, img) in order of k (img may be moved from).
+    /// The stack is rendered a slab at a time: the slices within one coarse cell's height, at most
+    /// so.slab_bytes of images; each tile builds the Voronoi edges of its column through the slab
+    /// once and renders all the slab's slices from them. Memory: the slab's images and seeds.
+    /// Throws invalid_input for no heights, heights not finite or not increasing, and as slice().
+    template <class Emit>
+    void for_each_slice(std::span<const double> zs, const box2& region, double pixel, Emit&& emit, slice_options so = {}) const {
+        const auto [w, h] = slice_size(region, pixel);
+        if (zs.empty()) throw invalid_input("foam slices: no heights given");
+        for (std::size_t k = 0; k < zs.size(); ++k) {
+            require_finite(zs[k], "foam slice z");
+            if (k > 0 && !(zs[k] > zs[k - 1])) throw invalid_input("foam slices: heights must increase (z[" + std::to_string(k) + "] = " + std::to_string(zs[k]) + ")");
+        }
+        const std::size_t per_image = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+        const std::size_t most = std::max<std::size_t>(1, so.slab_bytes / per_image);
+        std::vector<image8> slab;
+        for (std::size_t s = 0; s < zs.size();) {
+            std::size_t e = s + 1;
+            while (e < zs.size() && e - s < most && zs[e] - zs[s] <= opt_.cell) ++e;
+            slab.resize(e - s);  // the images are kept from slab to slab unless emit moved them away
+            for (image8& img : slab)
+                if (img.width != w || img.height != h || img.channels != 1 || img.data.size() != per_image) img = image8(w, h, 1, 0);
+            render_slab(zs.subspan(s, e - s), region.lo, pixel, so, slab);
+            for (std::size_t k = s; k < e; ++k) emit(k, slab[k - s]);
+            s = e;
+        }
+    }
+
+    /// count slices at z0, z0 + dz, ... (dz > 0, count in [1, 1e6]) over region, as for_each_slice.
+    [[nodiscard]] std::vector<image8> slices(double z0, double dz, int count, const box2& region, double pixel, slice_options so = {}) const {
+        require_finite(z0, "foam slices z0");
+        require_positive(dz, "foam slices dz");
+        if (count < 1 || count > 1000000) throw invalid_input("foam slices: count must be in [1, 1e6], got " + std::to_string(count));
+        std::vector<double> zs(static_cast<std::size_t>(count));
+        for (int k = 0; k < count; ++k) zs[static_cast<std::size_t>(k)] = z0 + k * dz;
+        std::vector<image8> out(zs.size());
+        for_each_slice(zs, region, pixel, [&](std::size_t k, image8& img) { out[k] = std::move(img); }, so);
+        return out;
     }
 
     /// Image size of slice(region, pixel); throws invalid_input for bad or over-large (> 1e9 px) regions.
@@ -240,6 +320,84 @@ public:
     }
 
 private:
+    // Renders the slices at heights zs (increasing, within a few cells) into imgs (sized alike):
+    // per tile, the edges of its column through zs once, then every slice from them.
+    void render_slab(std::span<const double> zs, const vec2& origin, double pixel, const slice_options& so, std::span<image8> imgs) const {
+        require_positive(pixel, "foam slice pixel size");
+        if (!all_finite(origin)) throw invalid_input("foam slice: region corner is not finite");
+        if (so.supersample < 1 || so.supersample > 16) throw invalid_input("foam slice: supersample must be in [1, 16]");
+        if (so.tile < 8 || so.tile > 1024) throw invalid_input("foam slice: tile must be in [8, 1024]");
+        const image8& first = imgs.front();
+        for (const image8& img : imgs)
+            if (img.channels != 1 || img.width != first.width || img.height != first.height)
+                throw invalid_input("foam slice: images must have one channel and one size");
+        const int T = so.tile;
+        const int tx = (first.width + T - 1) / T, ty = (first.height + T - 1) / T;
+        detail::seed_cache cache;
+        detail::fill_seed_cache(cache, gen_, opt_.max_radius, zs.front(), zs.back(), origin, first.width, first.height, pixel, T);
+        constexpr bool constant_tau = std::is_same_v<Radius, constant_field>;
+        parallel_for(0, static_cast<std::size_t>(tx) * static_cast<std::size_t>(ty), [&](std::size_t t) {
+            thread_local detail::foam_workspace ws;
+            ws.cache = cache.start.empty() ? nullptr : &cache;
+            struct reset {
+                detail::foam_workspace& w;
+                ~reset() { w.cache = nullptr; }
+            } guard{ws};
+            const int i0 = static_cast<int>(t % static_cast<std::size_t>(tx)) * T;
+            const int j0 = static_cast<int>(t / static_cast<std::size_t>(tx)) * T;
+            const int tw = std::min(T, first.width - i0), th = std::min(T, first.height - j0);
+            detail::gather_tile_edges(*this, zs.front(), zs.back(), origin, pixel, i0, j0, tw, th, ws);
+            for (std::size_t k = 0; k < zs.size(); ++k)
+                detail::render_tile<constant_tau>(*this, imgs[k], zs[k], origin, pixel, i0, j0, tw, th, so.supersample, ws);
+        });
+    }
+
+    // The block that answers queries at q of radius <= max radius: held, or built when worth it
+    // (detail/point_cache.hpp), else null.
+    [[nodiscard]] const detail::edge_block* block_for(const vec3& q) const {
+        const i64vec3 k = coarse_cell_of(q, opt_.cell);
+        detail::edge_block_cache& cache = thread_cache();
+        cache.set_budget(opt_.point_cache_bytes);
+        if (const detail::edge_block* b = cache.find(id_, k)) return b;
+        const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
+        if (!cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build)) return nullptr;
+        thread_local detail::foam_workspace ws;
+        return &cache.get(id_, k, opt_.point_cache_bytes, [&](detail::edge_block& blk) {
+            detail::build_edge_block(blk, id_, k, opt_.cell, opt_.max_radius, ws, [&](const box3& bx, detail::foam_workspace& w, auto&& f) {
+                detail::for_each_voronoi_piece(bx, gen_, opt_.max_radius, id_, w, f);
+            });
+        });
+    }
+    // Some piece of the cube q +- t lies within t of q (stops at the first).
+    [[nodiscard]] bool solid_near(const vec3& q, double t) const {
+        thread_local detail::foam_workspace ws;
+        const double t2 = t * t;
+        bool solid = false;
+        detail::for_each_voronoi_piece(box3(q - vec3(t), q + vec3(t)), gen_, opt_.max_radius, id_, ws,
+                                       [&](const detail::canonical_piece& p, const vec3&, const vec3&) { return !(solid = detail::distance2(p, q) <= t2); });
+        return solid;
+    }
+    // The distance from q to the nearest piece of the cube q +- r if it is <= r, else +infinity.
+    [[nodiscard]] double nearest_near(const vec3& q, double r) const {
+        thread_local detail::foam_workspace ws;
+        double best = r * r;
+        bool found = false;
+        detail::for_each_voronoi_piece(box3(q - vec3(r), q + vec3(r)), gen_, opt_.max_radius, id_, ws,
+                                       [&](const detail::canonical_piece& p, const vec3&, const vec3&) {
+                                           const double d2 = detail::distance2(p, q);
+                                           if (d2 <= best) best = d2, found = true;
+                                           return true;
+                                       });
+        return found ? std::sqrt(best) : std::numeric_limits<double>::infinity();
+    }
+    // A block costs about 200 of its misses to build (each answered from its own small cube);
+    // building after 64 keeps a coherent scan cheap and bounds the waste of scattered points.
+    static constexpr int misses_before_build = 64;
+    static detail::edge_block_cache& thread_cache() {
+        thread_local detail::edge_block_cache cache;
+        return cache;
+    }
+
     static std::uint64_t next_id() {
         static std::atomic<std::uint64_t> counter{0};
         return ++counter;

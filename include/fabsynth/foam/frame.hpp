@@ -22,6 +22,7 @@
 ///   fabsynth::image8 s = obj.slice(z, region, 0.05);
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -112,6 +113,22 @@ public:
 
     void slice_into(image8& img, double z, const vec2& origin, double pixel, slice_options so = {}) const {
         foam_.slice_into(img, z, origin, pixel, so);
+        add_section(img, z, origin, pixel);
+    }
+
+    /// A stack of slices at the increasing heights zs (mm), each as slice() gives it, handed to
+    /// emit(k, img) in order (the foam's for_each_slice: its edges built once per slab).
+    template <class Emit>
+    void for_each_slice(std::span<const double> zs, const box2& region, double pixel, Emit&& emit, slice_options so = {}) const {
+        foam_.for_each_slice(zs, region, pixel, [&](std::size_t k, image8& img) {
+            add_section(img, zs[k], region.lo, pixel);
+            emit(k, img);
+        }, so);
+    }
+
+private:
+    // Keeps the foam of img inside the mesh (and its cuts) and adds the frame shell.
+    void add_section(image8& img, double z, const vec2& origin, double pixel) const {
         // cross-section of the mesh: segments where faces straddle the plane, filled even-odd
         polygon_rasterizer section;
         const auto& m = surface_.mesh();
@@ -149,7 +166,6 @@ public:
         }, {.grain = 4});
     }
 
-private:
     const Foam& foam_;
     const mesh_distance& surface_;
     frame_options opt_;

@@ -13,7 +13,11 @@
 /// between two pixels within tau of the segment, hence (the distance to a segment is convex along
 /// a line) within tau itself, up to the rounding of the test (~1e-13 mm): the image equals the
 /// per-pixel exact test outside that band. A varying radius tests every pixel of the interval.
-/// Memory is O(one slice + the seeds of a slab of thickness ~2 (sqrt(3) L + 2 tau) under it).
+/// A stack of slices is rendered a slab at a time (voronoi_foam::for_each_slice): each tile builds
+/// the edges of its column through the slab once and renders every slice of the slab from them;
+/// every pixel is decided exactly whatever box the edges came from (up to the ~1e-13 mm rounding
+/// of the test, as for any tile size), so the images equal single slices. Memory is O(the slab's images + the seeds of the slab grown by
+/// ~2 (sqrt(3) L + 2 tau)).
 /// Tile size and compiler-flag measurements: benchmarks/README.md (foam).
 #include <algorithm>
 #include <cmath>
@@ -30,24 +34,25 @@
 
 namespace fabsynth::foam::detail {
 
-/// Generates, in parallel, the seeds of every coarse cell a tile of the slice at height z can
-/// gather: those within R of the slice rectangle (origin, width x height pixels), where R bounds
-/// the margin of gather_certified_seeds for a tile box (tile +- max radius): usually m <= 2 h +
-/// max(1.5 rho^(-1/3), sqrt(3) L) <= 2 h + sqrt(3) L (rho >= 1/L^3; h = sub-box circumradius).
-/// Cells outside the cache still work (slower). Leaves the cache empty when it would span more
-/// than 4e6 coarse cells.
+/// Generates, in parallel, the seeds of every coarse cell a tile column of the slices at heights
+/// z_lo..z_hi can gather: those within R of the slab (origin, width x height pixels, z_lo..z_hi),
+/// where R bounds the margin of gather_certified_seeds for a tile column's box (tile +- max
+/// radius): usually m <= 2 h + max(1.5 rho^(-1/3), sqrt(3) L) <= 2 h + sqrt(3) L (rho >= 1/L^3;
+/// h = sub-box circumradius). Cells outside the cache still work (slower). Leaves the cache empty
+/// when it would span more than 4e6 coarse cells.
 template <class Seeds>
-void fill_seed_cache(seed_cache& cache, const Seeds& gen, double max_radius, double z, const vec2& origin, int width,
+void fill_seed_cache(seed_cache& cache, const Seeds& gen, double max_radius, double z_lo, double z_hi, const vec2& origin, int width,
                      int height, double pixel, int tile) {
     const double cell = gen.options().cell;
     const double tmax = max_radius;
     const double step_xy = std::max(2 * tmax, (tile * pixel + 2 * tmax) / 16);
-    const double hs_max = 0.5 * std::sqrt(2 * step_xy * step_xy + 4 * tmax * tmax);
+    const double step_z = std::max(2 * tmax, (z_hi - z_lo + 2 * tmax) / 16);
+    const double hs_max = 0.5 * std::sqrt(2 * step_xy * step_xy + step_z * step_z);
     const double R = tmax + 2 * hs_max + std::sqrt(3.0) * cell + 1e-6 * (1 + cell);
-    const double cells = (width * pixel + 2 * R) * (height * pixel + 2 * R) * (2 * R) / (cell * cell * cell);
+    const double cells = (width * pixel + 2 * R) * (height * pixel + 2 * R) * (z_hi - z_lo + 2 * R) / (cell * cell * cell);
     if (!(cells < 4e6)) return;
-    cache.lo = coarse_cell_of(vec3(origin, z) - vec3(R), cell);
-    cache.dims = coarse_cell_of(vec3(origin + vec2(width, height) * pixel, z) + vec3(R), cell) - cache.lo + i64vec3(1);
+    cache.lo = coarse_cell_of(vec3(origin, z_lo) - vec3(R), cell);
+    cache.dims = coarse_cell_of(vec3(origin + vec2(width, height) * pixel, z_hi) + vec3(R), cell) - cache.lo + i64vec3(1);
     const std::size_t n = static_cast<std::size_t>(cache.dims.x * cache.dims.y * cache.dims.z);
     std::vector<std::vector<vec3>> per(n);
     parallel_for(0, n, [&](std::size_t i) {
@@ -242,21 +247,28 @@ inline void resolve_tile(const tile_raster& r, const foam_workspace& ws, image8&
         }
 }
 
-/// Renders one tile (pixels i0..i0+tw-1, j0..j0+th-1) of the slice of `foam` at height z into img.
-/// ConstantTau: the radius is the same everywhere (Radius = constant_field).
-template <bool ConstantTau, class Foam>
-void render_tile(const Foam& foam, image8& img, double z, const vec2& origin, double pixel, int i0, int j0, int tw,
-                 int th, int ss, foam_workspace& ws) {
+/// The Voronoi edge pieces near a tile column (pixels i0..i0+tw-1, j0..j0+th-1) through the
+/// slices at heights z_lo..z_hi, into ws.edges: once for every sample of every slice there.
+template <class Foam>
+void gather_tile_edges(const Foam& foam, double z_lo, double z_hi, const vec2& origin, double pixel, int i0, int j0, int tw, int th,
+                       foam_workspace& ws) {
     const double tmax = foam.max_radius();
-    const tile_raster r = make_tile_raster(origin, pixel, z, i0, j0, tw, th, ss, tmax);
-    // the Voronoi edges near the tile, once for all its samples
-    const box3 b(vec3(origin.x + i0 * pixel, origin.y + j0 * pixel, z) - vec3(tmax),
-                 vec3(origin.x + (i0 + tw) * pixel, origin.y + (j0 + th) * pixel, z) + vec3(tmax));
+    const box3 b(vec3(origin.x + i0 * pixel, origin.y + j0 * pixel, z_lo) - vec3(tmax),
+                 vec3(origin.x + (i0 + tw) * pixel, origin.y + (j0 + th) * pixel, z_hi) + vec3(tmax));
     ws.edges.clear();
     foam.for_each_edge(b, ws, [&](const vec3& a, const vec3& c) {
         ws.edges.push_back({a, c});
         return true;
     });
+}
+
+/// Renders one tile (pixels i0..i0+tw-1, j0..j0+th-1) of the slice of `foam` at height z into img
+/// from the edges of its column in ws.edges (gather_tile_edges over a z range holding z).
+/// ConstantTau: the radius is the same everywhere (Radius = constant_field).
+template <bool ConstantTau, class Foam>
+void render_tile(const Foam& foam, image8& img, double z, const vec2& origin, double pixel, int i0, int j0, int tw,
+                 int th, int ss, foam_workspace& ws) {
+    const tile_raster r = make_tile_raster(origin, pixel, z, i0, j0, tw, th, ss, foam.max_radius());
     double tau2 = 0;
     if constexpr (ConstantTau) {
         const double t = foam.radius(vec3(origin, z));
