@@ -203,12 +203,15 @@ int main(int argc, char** argv) {
         std::size_t rings = 0;
         for (const auto& p : drawn) rings += 1 + p.holes.size();
         progress(1.0, "write");
-        char line[512];
+        // the distortion: every piece is stretched along the curve by L / (its pieces' natural length)
+        const double stretch = so.length > 0 && res.achieved_length > 0 ? so.length / res.achieved_length : 1.0;
+        char line[640];
         std::snprintf(line, sizeof line,
-                      "%s: %s, exemplar %s scaled to height %g\npieces: %zu input, %zu in result; DP %.3f s (%zu entries, %.1f MB)\n"
+                      "%s: %s, exemplar %s scaled to height %g\npieces: %zu input, %zu in result, natural length %.2f mm "
+                      "stretched by %.3f; DP %.3f s (%zu entries, %.1f MB)\n"
                       "topology: %u components, %u holes; %zu rings drawn; STL %zu triangles, %g mm thick",
                       svg_out.string().c_str(), what.c_str(), exemplar_path.c_str(), height, res.input_pieces, res.sequence.size(),
-                      res.dp_seconds, res.dp_entries, static_cast<double>(res.dp_peak_bytes) / (1024.0 * 1024.0), res.components,
+                      res.achieved_length, stretch, res.dp_seconds, res.dp_entries, static_cast<double>(res.dp_peak_bytes) / (1024.0 * 1024.0), res.components,
                       res.holes, rings, mesh.faces.size(), thickness);
         common.say(line);
         common.summary({{"shape", what},
@@ -216,6 +219,8 @@ int main(int argc, char** argv) {
                         {"holes", res.holes},
                         {"input_pieces", res.input_pieces},
                         {"result_pieces", res.sequence.size()},
+                        {"natural_length_mm", res.achieved_length},
+                        {"stretch", stretch},
                         {"rings", rings},
                         {"dp_seconds", res.dp_seconds},
                         {"stl_triangles", mesh.faces.size()},

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Topology-constrained vector patterns (Zhou et al. 2014): three bundled exemplars along an open
 # curve (data/curves/wave.svg), a straight line, a circle and a closed curve (data/curves/blob.svg),
-# and a rectangle (§6.2). Every result is one connected piece (--components 1); each run writes
+# and a rectangle (§6.2), one piece each (--components 1), and two bands of separate motifs; each run writes
 # NAME.svg (filled shapes), NAME.stl (1 mm thick, watertight) and NAME.png (preview) to $OUT_DIR.
 set -euo pipefail
 : "${BIN:?BIN must point at the built examples}" "${DATA:?DATA must point at data/}" "${OUT_DIR:?OUT_DIR must be set}"
@@ -19,3 +19,7 @@ run quatrefoil_line  --exemplar "$vec/quatrefoil.svg"   --line 100 --height 10 -
 run greek_key_circle --exemplar "$vec/greek_key.svg"    --circle 40 --height 10 --components 1 --closed-loop
 run greek_key_blob   --exemplar "$vec/greek_key.svg"    --curve "$DATA/curves/blob.svg" --closed --height 10 --components 1 --closed-loop
 run greek_key_rect   --exemplar "$vec/greek_key.svg"    --rect 60 40 --height 10 --components 1
+# Separate motifs (no connection between them): exactly 3 disks along 200 mm (natural length 187.5 mm),
+# and 20 leaves along the 400 mm wave (natural length 389 mm).
+run disks_line       --exemplar "$vec/disks.svg"        --line 200 --height 30 --components 3
+run leaves_wave      --exemplar "$vec/leaves.svg"       --curve "$DATA/curves/wave.svg" --height 10 --components 20

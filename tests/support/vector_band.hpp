@@ -12,7 +12,8 @@ namespace fabsynth::test {
 
 /// The bundled band exemplars (data/vector/).
 inline constexpr const char* bundled_vector_files[] = {"lace_scallop.svg", "greek_key.svg", "pearls.svg", "vine.svg",
-                                                       "quatrefoil.svg",   "hearts.svg",    "zigzag.svg"};
+                                                       "quatrefoil.svg",   "hearts.svg",    "zigzag.svg",
+                                                       "disks.svg",        "leaves.svg"};
 
 /// A bundled band exemplar as read by exemplar_from_svg.
 inline vector_pattern::exemplar load_vector_exemplar(const std::string& file) {

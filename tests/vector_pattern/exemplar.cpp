@@ -21,7 +21,8 @@ struct bundled {
 // Counts from data/README.md (vector/ table).
 constexpr bundled bundled_exemplars[] = {
     {"lace_scallop.svg", 1, 78}, {"greek_key.svg", 1, 6}, {"pearls.svg", 44, 11}, {"vine.svg", 1, 20},
-    {"quatrefoil.svg", 7, 35},   {"hearts.svg", 1, 12},   {"zigzag.svg", 1, 0},
+    {"quatrefoil.svg", 7, 35},   {"hearts.svg", 1, 12},   {"zigzag.svg", 1, 0},      {"disks.svg", 8, 0},
+    {"leaves.svg", 10, 0},
 };
 
 std::string vector_path(const char* f) { return std::string(FABSYNTH_DATA_DIR) + "/vector/" + f; }

@@ -19,6 +19,7 @@
 ///   ex.components();  // 1
 ///   ex.holes();       // 6
 ///   auto band = fabsynth::vector_pattern::scaled(ex, 10.0 / ex.height());  // 10 mm high
+#include <algorithm>
 #include <cmath>
 #include <concepts>
 #include <cstddef>
@@ -37,7 +38,11 @@ namespace fabsynth::vector_pattern {
 /// A vector exemplar: non-overlapping simple polygons with holes.
 struct exemplar {
     std::vector<polygon_with_holes> polygons;  ///< one per connected component (outer ccw-positive, holes negative)
-    box2 bounds;                               ///< bounding box of all outer rings (mm)
+    /// The band's extent (mm). y: the outer rings' extent. x: the outer rings' extent, widened by
+    /// exemplar_from_svg to the document's viewBox when that holds every ring, so that empty
+    /// margins at the band's ends count: they are half the spacing of separate motifs (beads,
+    /// dots), which slicing (pieces.hpp) would otherwise lose at P_0 and P_t.
+    box2 bounds;
     bool repaired = false;                     ///< true if the input needed a boolean union to become valid
 
     [[nodiscard]] std::size_t components() const noexcept { return polygons.size(); }
@@ -64,6 +69,9 @@ struct exemplar_options {
     bool repair = true;                                  ///< repair invalid geometry by a union (else reject)
     open_path_policy open_paths = open_path_policy::reject;
     double relative_area_tolerance = 1e-9;               ///< |union area - nested area| / area above this = invalid
+    /// exemplar_from_svg: the band spans the document's viewBox along x when it holds every ring
+    /// (false: the rings' own extent, no end margins).
+    bool document_extent = true;
 };
 
 /// One filled shape: its subpaths (closed[i] tells whether subpath i is closed) and fill rule.
@@ -167,7 +175,8 @@ inline std::string shape_name(const exemplar_shape& s, std::size_t i) {
 using fabsynth::svg_like_document;
 
 /// Exemplar from the filled shapes of an SVG document (unfilled shapes, e.g. fill="none" strokes,
-/// draw no area and are skipped). Throws invalid_input as make_exemplar, and for a document with
+/// draw no area and are skipped); its x extent is the document's viewBox when that holds every
+/// shape (exemplar_options::document_extent). Throws invalid_input as make_exemplar, and for a document with
 /// no filled shape.
 template <svg_like_document Doc>
 [[nodiscard]] exemplar exemplar_from_svg(const Doc& doc, const exemplar_options& opt = {}) {
@@ -182,7 +191,16 @@ template <svg_like_document Doc>
         shapes.push_back(std::move(e));
     }
     if (shapes.empty()) throw invalid_input("exemplar: the SVG document has no filled shape");
-    return make_exemplar(shapes, opt);
+    exemplar ex = make_exemplar(shapes, opt);
+    if constexpr (requires { doc.view_box->min_x; doc.view_box->width; }) {
+        if (opt.document_extent && doc.view_box) {
+            const double x0 = doc.view_box->min_x, x1 = doc.view_box->min_x + doc.view_box->width;
+            const double slack = 1e-9 * std::max(1.0, ex.width());
+            if (std::isfinite(x0) && std::isfinite(x1) && x0 <= ex.bounds.lo.x + slack && x1 >= ex.bounds.hi.x - slack)
+                ex.bounds.lo.x = std::min(x0, ex.bounds.lo.x), ex.bounds.hi.x = std::max(x1, ex.bounds.hi.x);
+        }
+    }
+    return ex;
 }
 
 }  // namespace fabsynth::vector_pattern

@@ -11,7 +11,10 @@
 ///    Only interior boundaries count: at the exemplar's two ends the band itself is cut (as in
 ///    data/vector/), which leaves portals there, not a topology change.
 /// 3. §5.2.2 grouping: sorted events form groups; a group grows until the next event is farther
-///    than `group distance` from the last one; each group's mean is an *attacher* A_i.
+///    than `group distance` from the last one; each group's mean is an *attacher* A_i. A band whose
+///    two end columns are empty (separate motifs) is periodic across its ends: its last and first
+///    events group across the seam when they are that close, and the group's attacher stands at
+///    both ends (not in the paper, which has no band ends).
 /// 4. Cuts are the midpoints C_i = (A_i + A_{i+1}) / 2.
 /// 5. §5.2.1: cuts whose narrowest portal is thinner than `min_portal_width` are dropped.
 ///
@@ -126,12 +129,34 @@ inline bool topology_changes(const std::vector<std::pair<int, int>>& a, const st
         if (detail::topology_changes(runs[static_cast<std::size_t>(i - 1)], runs[static_cast<std::size_t>(i)]))
             r.events.push_back(ex.bounds.lo.x + i * r.pixel);
     const double d = opt.group_distance > 0.0 ? opt.group_distance : opt.group_fraction * W;
+    std::vector<std::pair<std::size_t, std::size_t>> groups;  // [first, last) event index ranges
     for (std::size_t i = 0; i < r.events.size();) {
         std::size_t k = i + 1;
-        double sum = r.events[i];
-        while (k < r.events.size() && r.events[k] - r.events[k - 1] <= d) sum += r.events[k++];
-        r.attachers.push_back(sum / static_cast<double>(k - i));
+        while (k < r.events.size() && r.events[k] - r.events[k - 1] <= d) ++k;
+        groups.emplace_back(i, k);
         i = k;
+    }
+    const auto mean = [&](std::size_t a, std::size_t b, double shift) {
+        double sum = 0.0;
+        for (std::size_t e = a; e < b; ++e) sum += r.events[e] + shift;
+        return sum;
+    };
+    // A band of separate motifs begins and ends in empty columns; being periodic (data/vector/
+    // convention), its last and first events are neighbours across the seam, one gap apart. When
+    // they group, that group's attacher lies near the band's ends (once at each), so the end cuts
+    // fall where the inner ones do (e.g. mid-motif) and the end pieces are halves of an inner
+    // piece, not longer or shorter ones that no sequence of natural length can use.
+    const bool empty_ends = nx > 1 && runs.front().empty() && runs.back().empty();
+    if (empty_ends && groups.size() >= 2 && (r.events.front() - ex.bounds.lo.x) + (ex.bounds.hi.x - r.events.back()) <= d) {
+        const auto [a0, b0] = groups.front();
+        const auto [a1, b1] = groups.back();
+        const double seam = (mean(a1, b1, -W) + mean(a0, b0, 0.0)) / static_cast<double>((b1 - a1) + (b0 - a0));
+        r.attachers.push_back(seam);
+        for (std::size_t g = 1; g + 1 < groups.size(); ++g)
+            r.attachers.push_back(mean(groups[g].first, groups[g].second, 0.0) / static_cast<double>(groups[g].second - groups[g].first));
+        r.attachers.push_back(seam + W);
+    } else {
+        for (const auto& [a, b] : groups) r.attachers.push_back(mean(a, b, 0.0) / static_cast<double>(b - a));
     }
     std::vector<double> cuts;
     for (std::size_t i = 0; i + 1 < r.attachers.size(); ++i) {
