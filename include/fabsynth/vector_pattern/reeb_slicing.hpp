@@ -136,7 +136,7 @@ inline bool topology_changes(const std::vector<std::pair<int, int>>& a, const st
         groups.emplace_back(i, k);
         i = k;
     }
-    const auto mean = [&](std::size_t a, std::size_t b, double shift) {
+    const auto sum_of = [&](std::size_t a, std::size_t b, double shift) {  // events a..b-1, shifted
         double sum = 0.0;
         for (std::size_t e = a; e < b; ++e) sum += r.events[e] + shift;
         return sum;
@@ -150,13 +150,13 @@ inline bool topology_changes(const std::vector<std::pair<int, int>>& a, const st
     if (empty_ends && groups.size() >= 2 && (r.events.front() - ex.bounds.lo.x) + (ex.bounds.hi.x - r.events.back()) <= d) {
         const auto [a0, b0] = groups.front();
         const auto [a1, b1] = groups.back();
-        const double seam = (mean(a1, b1, -W) + mean(a0, b0, 0.0)) / static_cast<double>((b1 - a1) + (b0 - a0));
+        const double seam = (sum_of(a1, b1, -W) + sum_of(a0, b0, 0.0)) / static_cast<double>((b1 - a1) + (b0 - a0));
         r.attachers.push_back(seam);
         for (std::size_t g = 1; g + 1 < groups.size(); ++g)
-            r.attachers.push_back(mean(groups[g].first, groups[g].second, 0.0) / static_cast<double>(groups[g].second - groups[g].first));
+            r.attachers.push_back(sum_of(groups[g].first, groups[g].second, 0.0) / static_cast<double>(groups[g].second - groups[g].first));
         r.attachers.push_back(seam + W);
     } else {
-        for (const auto& [a, b] : groups) r.attachers.push_back(mean(a, b, 0.0) / static_cast<double>(b - a));
+        for (const auto& [a, b] : groups) r.attachers.push_back(sum_of(a, b, 0.0) / static_cast<double>(b - a));
     }
     std::vector<double> cuts;
     for (std::size_t i = 0; i + 1 < r.attachers.size(); ++i) {
