@@ -1,5 +1,5 @@
 // Bands of separate motifs (data/vector/disks.svg, leaves.svg: no connection between motifs) along
-// a line: every request whose natural length (count x the file's pitch, known from how the files
+// an open and a closed curve: every request whose natural length (count x the file's pitch, known from how the files
 // were made, scripts/make_separate_motifs.py) is within the DP's tolerance (epsilon_max = 0.2 L)
 // succeeds with the exact count, confirmed by a raster oracle, and a stretch L / l within the
 // tolerance; every request outside it is refused. Issue 18: the band ends used to lose the half gap
@@ -23,8 +23,9 @@ struct outcome {
     double stretch_lo = 1e9, stretch_hi = 0;
 };
 
-// Sweeps counts 1..6 and lengths 40..460 mm along a line; the exemplar is scaled to a 30 mm band.
-outcome sweep(const std::string& file, double pitch_units) {
+// Sweeps counts 1..6 and lengths 40..460 mm along an open or a closed curve; the exemplar is
+// scaled to a 30 mm band.
+outcome sweep(const std::string& file, double pitch_units, bool closed) {
     const vector_pattern::exemplar raw = test::load_vector_exemplar(file);
     const double s = 30.0 / raw.height();
     const vector_pattern::exemplar ex = vector_pattern::scaled(raw, s);
@@ -38,11 +39,12 @@ outcome sweep(const std::string& file, double pitch_units) {
                 continue;
             }
             const bool feasible = std::abs(L - natural) <= 0.2 * L;
-            INFO(file << ": " << k << " motifs along " << L << " mm, natural length " << natural << " mm");
+            INFO(file << ": " << k << " motifs along " << L << " mm" << (closed ? " (closed)" : "") << ", natural length " << natural << " mm");
             vector_pattern::synthesis_options opt;
             opt.length = L;
             opt.components = k;
             opt.band_height = 30;
+            opt.closed = closed;
             try {
                 const vector_pattern::synthesis_result r = vector_pattern::synthesize_along(ex, opt);
                 ++o.met;
@@ -50,7 +52,7 @@ outcome sweep(const std::string& file, double pitch_units) {
                 CHECK(feasible);
                 CHECK(r.components == k);
                 const box2 b = bounding_box(r.polygons);
-                CHECK(test::raster_topology(r.polygons, {0.0, b.lo.y}, {L, b.hi.y}, 0.2, false).components == k);
+                CHECK(test::raster_topology(r.polygons, {0.0, b.lo.y}, {L, b.hi.y}, 0.2, closed).components == k);
                 const double stretch = L / r.achieved_length;  // placed / natural piece length
                 o.stretch_lo = std::min(o.stretch_lo, stretch), o.stretch_hi = std::max(o.stretch_hi, stretch);
                 CHECK(std::abs(r.achieved_length - natural) <= 0.01 * natural);  // natural pieces, no squeezed gaps
@@ -64,16 +66,17 @@ outcome sweep(const std::string& file, double pitch_units) {
 }
 
 TEST_CASE("separate motifs: feasible counts and lengths are met exactly, the others refused", "[pattern][synthesis][motifs]") {
-    for (const auto& [file, pitch] : {std::pair<const char*, double>{"disks.svg", 125.0}, {"leaves.svg", 80.0}}) {
-        const outcome o = sweep(file, pitch);
-        INFO(file << ": " << o.met << " met, " << o.refused << " refused, " << o.skipped << " at the tolerance's edge, stretch "
-                  << o.stretch_lo << " .. " << o.stretch_hi);
-        CHECK(o.disagree == 0);
-        CHECK(o.met >= 40);
-        CHECK(o.refused >= 40);
-        CHECK(o.stretch_lo >= 1.0 / 1.2 - 1e-9);  // |L - l| <= 0.2 L
-        CHECK(o.stretch_hi <= 1.0 / 0.8 + 1e-9);
-    }
+    for (const auto& [file, pitch] : {std::pair<const char*, double>{"disks.svg", 125.0}, {"leaves.svg", 80.0}})
+        for (bool closed : {false, true}) {
+            const outcome o = sweep(file, pitch, closed);
+            INFO(file << (closed ? " closed" : " open") << ": " << o.met << " met, " << o.refused << " refused, " << o.skipped
+                      << " at the tolerance's edge, stretch " << o.stretch_lo << " .. " << o.stretch_hi);
+            CHECK(o.disagree == 0);
+            CHECK(o.met >= 40);
+            CHECK(o.refused >= 40);
+            CHECK(o.stretch_lo >= 1.0 / 1.2 - 1e-9);  // |L - l| <= 0.2 L
+            CHECK(o.stretch_hi <= 1.0 / 0.8 + 1e-9);
+        }
 }
 
 TEST_CASE("separate motifs: the issue's disks (30 mm wide at a 62.5 mm pitch) along a line", "[pattern][synthesis][motifs]") {
