@@ -20,6 +20,9 @@
 /// side's seam edges), so the seam edges become interior edges and the mesh stays watertight
 /// (the paper's "circular band" for closed curves).
 ///
+/// extrude_along_space_curve(polys, curve, opt): the same along a curve in space
+/// (geometry/space_curve.hpp), the thickness along the frame's binormal.
+///
 /// weld_to_float(mesh) merges vertices that coincide in single precision (what binary STL keeps).
 ///
 /// Usage:
@@ -47,6 +50,7 @@
 #include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/space_curve.hpp"
 #include "fabsynth/geometry/triangulate.hpp"
 
 namespace fabsynth {
@@ -257,30 +261,25 @@ inline std::vector<polygon_with_holes> conform_seam(std::vector<polygon_with_hol
 
 /// The u-extent below which mapped triangle edges stay within chord_tolerance of the mapped curve
 /// (sagitta r (1 - cos(du / 2r)) ~ du^2 / 8r at radius of curvature r, scaled by r / (r + vmax) for
-/// the outer side of the band); +inf for a straight curve.
-[[nodiscard]] inline double max_du_for_tolerance(const planar_curve& c, double chord_tolerance, double vmax) {
+/// the outer side of the band); +inf for a straight curve. Curve: planar_curve or space_curve.
+template <class Curve>
+[[nodiscard]] double max_du_for_tolerance(const Curve& c, double chord_tolerance, double vmax) {
     require_positive(chord_tolerance, "curve band: chord_tolerance");
     const double r = c.min_radius_of_curvature();
     if (!std::isfinite(r)) return std::numeric_limits<double>::infinity();
     return std::sqrt(8.0 * chord_tolerance * r) * r / (r + vmax);
 }
 
-/// Triangulates band-coordinate polygons (u along the curve in [0, L], v across) in the parameter
-/// domain, refines, welds the seam of closed curves, maps by the band map and extrudes (§6.3).
-[[nodiscard]] inline triangle_mesh extrude_along_curve(const std::vector<polygon_with_holes>& band_polys,
-                                                       const planar_curve& curve, const curve_extrude_options& opt = {}) {
-    require_positive(opt.thickness, "extrude_along_curve: thickness");
-    require_positive(opt.chord_tolerance, "extrude_along_curve: chord_tolerance");
-    if (!(opt.max_du >= 0.0) || !std::isfinite(opt.max_du)) throw invalid_input("extrude_along_curve: max_du must be finite and >= 0");
-    const double L = curve.length();
-    const double vmax = detail::band::check_band_polygons(band_polys, L, "extrude_along_curve");
-    curve.check_band(vmax);
-    const std::vector<polygon_with_holes> polys = curve.closed() ? detail::band::conform_seam(band_polys, L) : band_polys;
+namespace detail::band {
+/// The pattern's triangulation in the parameter domain (u, v) of a curve of length L: triangulated,
+/// cut by the lines u = k du (du finite), and for closed curves with the cut at u = L welded onto
+/// the cut at u = 0 (refinement never splits seam edges: their u-extent is 0).
+inline planar_triangulation parameter_triangulation(const std::vector<polygon_with_holes>& band_polys, double L, bool closed, double du,
+                                                    double vmax) {
+    const std::vector<polygon_with_holes> polys = closed ? conform_seam(band_polys, L) : band_polys;
     planar_triangulation t = triangulate(polys);
-    const double du = opt.max_du > 0.0 ? opt.max_du : max_du_for_tolerance(curve, opt.chord_tolerance, vmax);
     if (std::isfinite(du)) refine_x_extent(t, du);
-    if (curve.closed()) {
-        // weld u = L onto u = 0 (refinement never splits seam edges: their u-extent is 0)
+    if (closed) {
         std::vector<std::pair<double, std::uint32_t>> at0;
         for (std::uint32_t i = 0; i < t.vertices.size(); ++i)
             if (t.vertices[i].x == 0.0) at0.push_back({t.vertices[i].y, i});
@@ -308,8 +307,45 @@ inline std::vector<polygon_with_holes> conform_seam(std::vector<polygon_with_hol
         for (auto& tri : t.triangles)
             for (std::uint32_t& v : tri) v = target[v];
     }
+    return t;
+}
+}  // namespace detail::band
+
+/// Triangulates band-coordinate polygons (u along the curve in [0, L], v across) in the parameter
+/// domain, refines, welds the seam of closed curves, maps by the band map and extrudes (§6.3).
+[[nodiscard]] inline triangle_mesh extrude_along_curve(const std::vector<polygon_with_holes>& band_polys,
+                                                       const planar_curve& curve, const curve_extrude_options& opt = {}) {
+    require_positive(opt.thickness, "extrude_along_curve: thickness");
+    require_positive(opt.chord_tolerance, "extrude_along_curve: chord_tolerance");
+    if (!(opt.max_du >= 0.0) || !std::isfinite(opt.max_du)) throw invalid_input("extrude_along_curve: max_du must be finite and >= 0");
+    const double L = curve.length();
+    const double vmax = detail::band::check_band_polygons(band_polys, L, "extrude_along_curve");
+    curve.check_band(vmax);
+    const double du = opt.max_du > 0.0 ? opt.max_du : max_du_for_tolerance(curve, opt.chord_tolerance, vmax);
+    planar_triangulation t = detail::band::parameter_triangulation(band_polys, L, curve.closed(), du, vmax);
     for (vec2& p : t.vertices) p = curve.band_point(p.x, p.y);
     return extrude(t, opt.thickness);
+}
+
+/// As extrude_along_curve, along a curve in space (geometry/space_curve.hpp): the slab is built in
+/// the parameter domain (u, v, w in [0, thickness]) and every vertex mapped by
+/// C(u) + v n(u) + w b(u), so the thickness runs along the frame's third axis. The map keeps
+/// orientation (t, n, b right-handed), so the slab stays closed and outward. On a curve in the
+/// plane z = c with up = z and no twist this is extrude_along_curve's mesh, moved to z = c.
+[[nodiscard]] inline triangle_mesh extrude_along_space_curve(const std::vector<polygon_with_holes>& band_polys, const space_curve& curve,
+                                                             const curve_extrude_options& opt = {}) {
+    require_positive(opt.thickness, "extrude_along_space_curve: thickness");
+    require_positive(opt.chord_tolerance, "extrude_along_space_curve: chord_tolerance");
+    if (!(opt.max_du >= 0.0) || !std::isfinite(opt.max_du))
+        throw invalid_input("extrude_along_space_curve: max_du must be finite and >= 0");
+    const double L = curve.length();
+    const double vmax = detail::band::check_band_polygons(band_polys, L, "extrude_along_space_curve");
+    curve.check_band(vmax);
+    const double du = opt.max_du > 0.0 ? opt.max_du : max_du_for_tolerance(curve, opt.chord_tolerance, vmax);
+    const planar_triangulation t = detail::band::parameter_triangulation(band_polys, L, curve.closed(), du, vmax);
+    triangle_mesh m = extrude(t, opt.thickness);
+    for (vec3& p : m.vertices) p = curve.band_point(p.x, p.y, p.z);
+    return m;
 }
 
 }  // namespace fabsynth

@@ -1,0 +1,262 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file space_curve.hpp  Curves in space parametrised by arc length, with a frame per point
+/// (tangent t, normal n, binormal b) and the band map around them: (u, v, w) -> C(u) + v n(u) +
+/// w b(u), the generalisation of planar_curve's (u, v) -> C(u) + v n(u) (curve.hpp) to the bands
+/// of Zhou et al. 2014 §6.3 along 3D curves.
+///
+/// Frames. The normal is carried along the polyline without spinning about the tangent: across a
+/// vertex it turns by the smallest rotation taking the incoming tangent to the outgoing one (the
+/// rotation-minimising frame of a polyline; Wang, Jüttler, Zheng & Liu 2008, "Computation of
+/// rotation minimizing frames", show the double-reflection method converges to it for sampled
+/// smooth curves). The first normal is `up` x t_0 (normalised; for a curve in the plane z = c and
+/// up = z this is planar_curve's n = (-t.y, t.x), so a planar curve gives the planar band map).
+/// On top of that the user's twist turns the frame about the tangent by an angle growing linearly
+/// with arc length, twist_degrees over the whole curve. A closed curve must come back to its own
+/// frame: the transport's holonomy (the angle the carried normal is off after one loop) is taken
+/// out linearly along the curve, and twist_degrees must be a multiple of 360.
+///
+/// Band map. As for planar polylines (curve.hpp's file comment): at vertex i the two adjacent
+/// segment normals n_a, n_b (twisted alike) give the mitre vector m_i = (n_a + n_b) / (1 + n_a .
+/// n_b), interpolated linearly along each segment; each line v = const is then at distance |v|
+/// from the segment's line within the plane of the segment's normals, and a segment's band folds
+/// iff len + v (m_1 - m_0) . t <= 0. min_radius_of_curvature() is the smallest len / |(m_1 - m_0)
+/// . t|, and check_band(h) requires h below it. The binormal b_i = unit(t_a + t_b) x unit(m_i) is
+/// interpolated alike and normalised: the direction of a band's thickness (w).
+///
+/// Usage:
+///   auto c = fabsynth::space_curve::polyline(points, /*closed=*/false, {.twist_degrees = 90});
+///   c.check_band(5.0);                        // throws invalid_input if |v| <= 5 would fold
+///   vec3 p = c.band_point(u, v, w);           // C(u) + v n(u) + w b(u)
+///
+/// Errors (invalid_input, naming the problem): a non-finite coordinate or option, fewer than 2
+/// distinct points (3 when closed), a polyline turning back on itself by 180 degrees, a closed
+/// curve with a twist that is not a multiple of 360 degrees, and in check_band a half-height >=
+/// the smallest radius of curvature. (Self-contact of a band in space is not checked.)
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "fabsynth/core/error.hpp"
+#include "fabsynth/core/types.hpp"
+
+namespace fabsynth {
+
+/// Options of space_curve::polyline.
+struct space_curve_options {
+    double twist_degrees = 0.0;  ///< extra turn of the frame about the tangent over the whole curve (degrees, linear in arc length)
+    vec3 up{0.0, 0.0, 1.0};      ///< the first normal is up x t_0 (another axis if up is along t_0)
+};
+
+/// The frame at a point of a space curve (unit, right-handed: b = t x n).
+struct curve_frame {
+    vec3 t{1, 0, 0}, n{0, 1, 0}, b{0, 0, 1};
+};
+
+/// A polyline in space with arc-length parametrisation and rotation-minimising frames (see the
+/// file comment).
+class space_curve {
+public:
+    /// Polyline through `points` (closed: the last point connects back to the first; a repeated
+    /// first point at the end and consecutive duplicates are dropped). Throws invalid_input as
+    /// listed in the file comment.
+    [[nodiscard]] static space_curve polyline(std::vector<vec3> points, bool closed, const space_curve_options& opt = {}) {
+        for (std::size_t i = 0; i < points.size(); ++i)
+            if (!all_finite(points[i])) throw invalid_input("space curve: point " + std::to_string(i) + " is not finite");
+        if (!std::isfinite(opt.twist_degrees)) throw invalid_input("space curve: twist must be finite");
+        if (!all_finite(opt.up)) throw invalid_input("space curve: up vector is not finite");
+        std::vector<vec3> p;
+        for (const vec3& q : points)
+            if (p.empty() || q != p.back()) p.push_back(q);
+        if (closed)
+            while (p.size() > 1 && p.back() == p.front()) p.pop_back();
+        if (p.size() < 2 || (closed && p.size() < 3))
+            throw invalid_input("space curve: needs at least " + std::string(closed ? "3" : "2") + " distinct points, got " +
+                                std::to_string(p.size()));
+        if (closed && std::abs(std::remainder(opt.twist_degrees, 360.0)) > 1e-9)
+            throw invalid_input("space curve: a closed curve's twist must be a multiple of 360 degrees (its frame must come back), got " +
+                                std::to_string(opt.twist_degrees));
+        space_curve c;
+        c.closed_ = closed;
+        c.points_ = std::move(p);
+        const std::size_t n = c.points_.size(), segs = closed ? n : n - 1;
+        c.arc_.assign(segs + 1, 0.0);
+        std::vector<vec3> t(segs);
+        for (std::size_t k = 0; k < segs; ++k) {
+            const vec3 d = c.points_[(k + 1) % n] - c.points_[k];
+            const double len = glm::length(d);
+            if (!(len > 0.0) || !std::isfinite(len)) throw invalid_input("space curve: segment " + std::to_string(k) + " has no length");
+            c.arc_[k + 1] = c.arc_[k] + len;
+            t[k] = d / len;
+        }
+        c.length_ = c.arc_.back();
+        c.tangent_ = t;
+        // rotation-minimising segment normals (no twist yet)
+        std::vector<vec3> nu(segs);
+        nu[0] = first_normal(t[0], opt.up);
+        for (std::size_t k = 1; k < segs; ++k) nu[k] = carry(nu[k - 1], t[k - 1], t[k], k);
+        double extra = std::numbers::pi / 180.0 * opt.twist_degrees;  // total turn about the tangent
+        if (closed) {
+            // the normal carried across the closing vertex back onto segment 0, against nu[0]
+            const vec3 back = carry(nu[segs - 1], t[segs - 1], t[0], 0);
+            extra -= std::atan2(glm::dot(glm::cross(nu[0], back), t[0]), glm::dot(nu[0], back));  // remove the holonomy
+        }
+        // twist angle at arc length s: extra * s / L; segment k's normal at its two ends
+        const auto turned = [&](std::size_t k, double s) {
+            const double a = extra * s / c.length_;
+            return std::cos(a) * nu[k] + std::sin(a) * glm::cross(t[k], nu[k]);
+        };
+        c.mitre_.resize(n);
+        c.binormal_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool has_prev = closed || i > 0, has_next = closed || i + 1 < n;
+            const std::size_t ka = (i + segs - 1) % segs, kb = i % segs;
+            if (!has_prev) {
+                c.mitre_[i] = turned(kb, 0.0);
+                c.binormal_[i] = glm::cross(t[kb], c.mitre_[i]);
+                continue;
+            }
+            if (!has_next) {
+                c.mitre_[i] = turned(ka, c.length_);
+                c.binormal_[i] = glm::cross(t[ka], c.mitre_[i]);
+                continue;
+            }
+            const vec3 na = turned(ka, c.arc_[i == 0 ? segs : i]), nb = turned(kb, c.arc_[i]);
+            const double d = 1.0 + glm::dot(na, nb);
+            if (!(d > 1e-12) || !(1.0 + glm::dot(t[ka], t[kb]) > 1e-12))
+                throw invalid_input("space curve: the polyline turns back on itself at vertex " + std::to_string(i));
+            c.mitre_[i] = (na + nb) / d;
+            c.binormal_[i] = glm::normalize(glm::cross(glm::normalize(t[ka] + t[kb]), glm::normalize(c.mitre_[i])));
+        }
+        return c;
+    }
+
+    [[nodiscard]] double length() const noexcept { return length_; }
+    [[nodiscard]] bool closed() const noexcept { return closed_; }
+    [[nodiscard]] const std::vector<vec3>& vertices() const noexcept { return points_; }
+    /// Arc length of every vertex (size vertices()+1 when closed: the last is length()).
+    [[nodiscard]] const std::vector<double>& vertex_arc_lengths() const noexcept { return arc_; }
+
+    /// Point at arc length s (clamped to [0, L] on open curves, wrapped on closed ones).
+    [[nodiscard]] vec3 point(double s) const { return band_point(s, 0.0, 0.0); }
+
+    /// The frame at arc length s: the segment's tangent, the unit interpolated mitre vector made
+    /// orthogonal to it, and b = t x n.
+    [[nodiscard]] curve_frame frame(double s) const {
+        const double u = wrap(s);
+        const std::size_t k = segment_of(u);
+        curve_frame f;
+        f.t = tangent_[k];
+        const vec3 m = offset_direction(u);
+        f.n = glm::normalize(m - glm::dot(m, f.t) * f.t);
+        f.b = glm::cross(f.t, f.n);
+        return f;
+    }
+
+    /// The vector v is multiplied by in the band map: the linearly interpolated mitre vector.
+    [[nodiscard]] vec3 offset_direction(double s) const {
+        const double u = wrap(s);
+        const std::size_t k = segment_of(u);
+        const double a = segment_fraction(k, u);
+        return (1.0 - a) * mitre_[k] + a * mitre_[(k + 1) % points_.size()];
+    }
+
+    /// The unit direction w is multiplied by: the vertex binormals interpolated and normalised.
+    [[nodiscard]] vec3 thickness_direction(double s) const {
+        const double u = wrap(s);
+        const std::size_t k = segment_of(u);
+        const double a = segment_fraction(k, u);
+        return glm::normalize((1.0 - a) * binormal_[k] + a * binormal_[(k + 1) % points_.size()]);
+    }
+
+    /// The band map (u, v, w) -> C(u) + v m(u) + w b(u). u is wrapped on closed curves (u = L
+    /// gives exactly the point of u = 0) and clamped to [0, L] on open ones.
+    [[nodiscard]] vec3 band_point(double u, double v, double w = 0.0) const {
+        u = wrap(u);
+        const std::size_t k = segment_of(u);
+        const std::size_t k1 = (k + 1) % points_.size();
+        const double a = segment_fraction(k, u);
+        const vec3 p = a == 0.0 ? points_[k] : points_[k] + a * (points_[k1] - points_[k]);
+        vec3 q = p + v * ((1.0 - a) * mitre_[k] + a * mitre_[k1]);
+        if (w != 0.0) q += w * glm::normalize((1.0 - a) * binormal_[k] + a * binormal_[k1]);
+        return q;
+    }
+
+    /// The largest half-height h for which the band |v| < h does not fold (see the file comment);
+    /// +inf for a straight, untwisted polyline.
+    [[nodiscard]] double min_radius_of_curvature(double* at_arc_length = nullptr) const {
+        double best = std::numeric_limits<double>::infinity(), where = 0.0;
+        const std::size_t n = points_.size(), segs = arc_.size() - 1;
+        for (std::size_t k = 0; k < segs; ++k) {
+            const double len = arc_[k + 1] - arc_[k];
+            const double shrink = std::abs(glm::dot(mitre_[(k + 1) % n] - mitre_[k], tangent_[k]));
+            if (shrink > 0.0 && len / shrink < best) best = len / shrink, where = arc_[k];
+        }
+        if (at_arc_length) *at_arc_length = where;
+        return best;
+    }
+
+    /// Throws invalid_input unless half_height is finite, >= 0 and below min_radius_of_curvature().
+    void check_band(double half_height) const {
+        if (!(half_height >= 0.0) || !std::isfinite(half_height))
+            throw invalid_input("space curve band: half-height must be finite and >= 0, got " + std::to_string(half_height));
+        double where = 0.0;
+        const double r = min_radius_of_curvature(&where);
+        if (!(half_height < r))
+            throw invalid_input("space curve band: half-height " + std::to_string(half_height) +
+                                " is not below the curve's smallest radius of curvature " + std::to_string(r) + " (at arc length " +
+                                std::to_string(where) + "); the band map would fold");
+    }
+
+    /// Arc length wrapped to [0, L) on closed curves, clamped to [0, L] on open ones.
+    [[nodiscard]] double wrap(double s) const noexcept {
+        if (!closed_) return std::clamp(s, 0.0, length_);
+        if (s >= 0.0 && s < length_) return s;
+        double w = std::fmod(s, length_);
+        if (w < 0.0) w += length_;
+        return w >= length_ ? 0.0 : w;
+    }
+
+private:
+    // up x t, or the axis least along t crossed with t when up is (nearly) along t.
+    [[nodiscard]] static vec3 first_normal(const vec3& t, const vec3& up) {
+        vec3 n = glm::cross(up, t);
+        if (glm::length(n) <= 1e-9 * std::max(1.0, glm::length(up))) {
+            const vec3 a = std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z) ? vec3(1, 0, 0)
+                           : std::abs(t.y) <= std::abs(t.z)                              ? vec3(0, 1, 0)
+                                                                                         : vec3(0, 0, 1);
+            n = glm::cross(a, t);
+        }
+        return glm::normalize(n);
+    }
+    // n (normal to a) carried across a vertex by the smallest rotation taking a to b; renormalised
+    // against b so rounding does not accumulate.
+    [[nodiscard]] static vec3 carry(const vec3& n, const vec3& a, const vec3& b, std::size_t vertex) {
+        const double d = 1.0 + glm::dot(a, b);
+        if (!(d > 1e-12)) throw invalid_input("space curve: the polyline turns back on itself at vertex " + std::to_string(vertex));
+        const vec3 r = n - (glm::dot(n, b) / d) * (a + b);
+        return glm::normalize(r - glm::dot(r, b) * b);
+    }
+    [[nodiscard]] std::size_t segment_of(double u) const noexcept {
+        const auto it = std::upper_bound(arc_.begin(), arc_.end(), u);
+        const std::size_t k = it == arc_.begin() ? 0 : static_cast<std::size_t>(it - arc_.begin()) - 1;
+        return std::min(k, arc_.size() - 2);
+    }
+    [[nodiscard]] double segment_fraction(std::size_t k, double u) const noexcept {
+        return std::clamp((u - arc_[k]) / (arc_[k + 1] - arc_[k]), 0.0, 1.0);
+    }
+
+    bool closed_ = false;
+    double length_ = 0.0;
+    std::vector<vec3> points_;    // polyline vertices
+    std::vector<double> arc_;     // arc length at each vertex (+ the closing vertex when closed)
+    std::vector<vec3> tangent_;   // unit tangent per segment
+    std::vector<vec3> mitre_;     // mitre vector per vertex
+    std::vector<vec3> binormal_;  // unit binormal per vertex
+};
+
+}  // namespace fabsynth
