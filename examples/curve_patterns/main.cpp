@@ -1,8 +1,8 @@
 // curve_patterns: topology-constrained vector patterns along curves and in rectangles
 // (Zhou, Jiang & Lefebvre 2014, "Topology-constrained synthesis of vector patterns").
 //
-//   curve_patterns --exemplar E.svg (--curve C.svg | --line LENGTH | --circle RADIUS | --rect W H)
-//                  --height H [--components N] [--holes M] [--closed] [--closed-loop] [--seed S]
+//   curve_patterns --exemplar E.svg (--curve C.svg | --line LENGTH | --circle RADIUS | --rect W H |
+//                  --curve3d C.csv [--twist DEG]) --height H [--components N] [--holes M] [--closed] [--closed-loop] [--seed S]
 //                  [--thickness T] [--tolerance TOL] [--slicing reeb|uniform] [--beta B] -o OUT.svg
 //
 // The exemplar (filled shapes of an SVG band lying along x) is scaled uniformly so that its height
@@ -10,6 +10,11 @@
 // the curve. The pattern is synthesized in the curve's (u, v) parameter domain
 // (vector_pattern/synthesis.hpp), mapped onto the curve (vector_pattern/band_map.hpp) and extruded to a
 // watertight slab tessellated in the parameter domain (geometry/extrude.hpp, §6.3).
+// --curve3d: a polyline in space (x,y,z rows, mm; geometry/space_curve.hpp: rotation-minimising
+// frames, --twist degrees of extra turn about the tangent over the whole curve, a multiple of 360
+// when --closed); the band lies along the frame's normal and the STL's thickness along its
+// binormal; OUT.svg is then the developed band (u along the curve, v across) and OUT.png a shaded
+// render of the solid from two opposite sides.
 // Outputs: OUT.svg (filled shapes only), OUT.stl and OUT.3mf (where lib3mf is available; T mm thick, the SVG's y axis flipped so the print
 // looks like the drawing), OUT.png (preview, pattern dark on white: geometry/coverage_image.hpp). Nothing is written unless
 // everything succeeded; an impossible request exits with status 3 and the reason on stderr.
@@ -18,6 +23,9 @@
 #include <fabsynth/geometry/curve.hpp>
 #include <fabsynth/geometry/extrude.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
+#include <fabsynth/geometry/render.hpp>
+#include <fabsynth/geometry/space_curve.hpp>
+#include <fabsynth/io/points.hpp>
 #include <fabsynth/geometry/triangulate.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
@@ -56,10 +64,11 @@ int main(int argc, char** argv) {
         "curve's inside, which the drawing shows as one more enclosed region.",
         "curve_patterns"};
     tool::common common(app);
-    std::string exemplar_path, curve_path, out_path, slicing = "reeb";
+    std::string exemplar_path, curve_path, curve3d_path, out_path, slicing = "reeb";
     std::optional<double> line_length, circle_radius;
     std::vector<double> rect;
     double height = 0, thickness = 1.0, tolerance = 0.0, beta = 0.0;
+    std::optional<double> twist;
     std::optional<std::uint32_t> components, holes;
     bool closed = false, closed_loop = false;
     std::uint64_t seed = 0;
@@ -68,6 +77,9 @@ int main(int argc, char** argv) {
     auto* o_line = app.add_option("--line", line_length, "straight line of this length (mm)");
     auto* o_circle = app.add_option("--circle", circle_radius, "circle of this radius (mm), closed");
     auto* o_rect = app.add_option("--rect", rect, "W H: rectangle of W x H mm, synthesized twice (§6.2)")->expected(2);
+    auto* o_curve3d = app.add_option("--curve3d", curve3d_path, "curve in space: CSV of x,y,z rows (mm), a polyline")->check(CLI::ExistingFile);
+    app.add_option("--twist", twist, "--curve3d: extra turn of the band about the curve over its length (degrees)")->needs(o_curve3d);
+    o_curve3d->excludes(o_curve, o_line, o_circle, o_rect);
     o_curve->excludes(o_line, o_circle, o_rect);
     o_line->excludes(o_circle, o_rect);
     o_circle->excludes(o_rect);
@@ -90,9 +102,10 @@ int main(int argc, char** argv) {
         stl_out.replace_extension(".stl");
         png_out.replace_extension(".png");
         threemf_out.replace_extension(".3mf");
-        tool::check_outputs({exemplar_path, curve_path}, {svg_out, stl_out, png_out, threemf_out});
-        const int shapes_given = !curve_path.empty() + line_length.has_value() + circle_radius.has_value() + !rect.empty();
-        if (shapes_given != 1) throw invalid_input("give exactly one of --curve, --line, --circle, --rect");
+        tool::check_outputs({exemplar_path, curve_path, curve3d_path}, {svg_out, stl_out, png_out, threemf_out});
+        const int shapes_given = !curve_path.empty() + line_length.has_value() + circle_radius.has_value() + !rect.empty() + !curve3d_path.empty();
+        if (shapes_given != 1) throw invalid_input("give exactly one of --curve, --line, --circle, --rect, --curve3d");
+        if (twist && !std::isfinite(*twist)) throw invalid_input("--twist must be finite");
         // Lengths between 1 um and 100 m, and bands at most 1e5 heights long: beyond, the geometry's
         // tolerances (relative to the band height) underflow or overflow.
         constexpr double min_mm = 1e-3, max_mm = 1e5, max_heights = 1e5;
@@ -107,7 +120,7 @@ int main(int argc, char** argv) {
         if (circle_radius) require_band_length(2 * 3.14159265358979 * tool::require_range(*circle_radius, min_mm, max_mm, "--circle", "mm"), "--circle length");
         if (rect.size() == 2) require_band_length(rect[0], "--rect width"), tool::require_range(rect[1], min_mm, max_mm, "--rect height", "mm");
         if (!(beta >= 0.0) || !std::isfinite(beta)) throw invalid_input("--beta must be finite and >= 0");
-        if (closed && (line_length || !rect.empty())) throw invalid_input("--closed applies to --curve (a --circle is always closed)");
+        if (closed && (line_length || !rect.empty())) throw invalid_input("--closed applies to --curve and --curve3d (a --circle is always closed)");
         if (slicing != "reeb" && slicing != "uniform") throw invalid_input("--slicing must be reeb or uniform, got '" + slicing + "'");
         tool::output_set outputs;  // the files appear together at the end of a successful run
         const fs::path svg_file = outputs.add(svg_out), stl_file = outputs.add(stl_out), png_file = outputs.add(png_out);
@@ -135,7 +148,19 @@ int main(int argc, char** argv) {
         std::vector<polygon_with_holes> drawn;  // output shapes in the plane (SVG user units = mm)
         triangle_mesh mesh;
         std::string what;
-        if (!rect.empty()) {
+        const bool in_space = !curve3d_path.empty();
+        if (in_space) {
+            const space_curve curve = space_curve::polyline(io::read_points_csv(curve3d_path), closed, {.twist_degrees = twist.value_or(0.0)});
+            curve.check_band(0.5 * height);  // the exemplar itself (|v| <= H/2) must fit the band
+            so.length = curve.length();
+            require_band_length(so.length, "--curve3d length");
+            so.closed = curve.closed();
+            if (so.closed_loop && !so.closed) throw invalid_input("--closed-loop needs a closed curve (--curve3d with --closed)");
+            res = vector_pattern::synthesize_along(ex, so);
+            drawn = res.polygons;  // the developed band
+            mesh = extrude_along_space_curve(res.polygons, curve, {.thickness = thickness, .chord_tolerance = tolerance});
+            what = std::string(curve.closed() ? "closed" : "open") + " curve in space of length " + std::to_string(curve.length());
+        } else if (!rect.empty()) {
             require_positive(rect[0], "--rect width");
             require_positive(rect[1], "--rect height");
             if (closed_loop) throw invalid_input("--closed-loop needs a closed curve");
@@ -181,7 +206,7 @@ int main(int argc, char** argv) {
             what += " of length " + std::to_string(curve->length());
         }
         progress(0.8, "mesh");
-        mirror_y(mesh);  // STL in a y-up frame (the SVG is y-down)
+        if (!in_space) mirror_y(mesh);  // STL in a y-up frame (the SVG is y-down); a space curve keeps its CSV's frame
         weld_to_float(mesh);
         require_watertight(mesh, "the extruded mesh, rounded to single precision,");
 
@@ -189,7 +214,9 @@ int main(int argc, char** argv) {
         if (bounds.empty()) throw solver_error("the synthesized pattern is empty");
         const box2 view = framed_view(bounds, 0.02);
         const io::svg_document doc = io::document_of(drawn, view);
-        const image8 png = preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
+        // a 3D result is shown as a shaded render of the solid, from two opposite sides
+        const image8 png = in_space ? render_two_sides(mesh, {.direction = {0.35, 1.0, -0.45}, .up = {0, 0, 1}}, {.width = 800, .height = 800})
+                                    : preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
 
         progress(0.9, "write");
         io::write_svg(svg_file, doc);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Topology-constrained vector patterns (Zhou et al. 2014): three bundled exemplars along an open
 # curve (data/curves/wave.svg), a straight line, a circle and a closed curve (data/curves/blob.svg),
-# and a rectangle (§6.2), one piece each (--components 1), and two bands of separate motifs; each run writes
+# a rectangle (§6.2), one piece each (--components 1), two bands of separate motifs and a twisted band
+# along a helix; each run writes
 # NAME.svg (filled shapes), NAME.stl (1 mm thick, watertight) and NAME.png (preview) to $OUT_DIR.
 set -euo pipefail
 : "${BIN:?BIN must point at the built examples}" "${DATA:?DATA must point at data/}" "${OUT_DIR:?OUT_DIR must be set}"
@@ -23,3 +24,7 @@ run greek_key_rect   --exemplar "$vec/greek_key.svg"    --rect 60 40 --height 10
 # and 20 leaves along the 400 mm wave (natural length 389 mm).
 run disks_line       --exemplar "$vec/disks.svg"        --line 200 --height 30 --components 3
 run leaves_wave      --exemplar "$vec/leaves.svg"       --curve "$DATA/curves/wave.svg" --height 10 --components 20
+# A band along a curve in space: a helix of radius 30 mm rising 40 mm over 1.5 turns, turned half a
+# turn about the curve over its length (--twist 180); the PNG is a shaded render from two sides.
+awk 'BEGIN { for (i = 0; i <= 300; ++i) { a = 3 * 3.14159265358979 * i / 300; printf "%.6f,%.6f,%.6f\n", 30 * cos(a), 30 * sin(a), 40 * i / 300 } }' > "$OUT_DIR/helix.csv"
+run greek_key_helix  --exemplar "$vec/greek_key.svg"    --curve3d "$OUT_DIR/helix.csv" --twist 180 --height 8 --components 1

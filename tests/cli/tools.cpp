@@ -3,7 +3,9 @@
 // characters in a non-terminal stderr; nothing left at the output path after a refused run.
 // Tools run as child processes (stdout and stderr to files, stdin closed).
 #include <catch2/catch.hpp>
+#include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/io/image.hpp>
+#include <fabsynth/io/mesh.hpp>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -141,6 +143,47 @@ TEST_CASE("curve_patterns follows the tool convention", "[cli][curve_patterns]")
     CHECK(j.at("components") == 1);
     CHECK(j.at("outputs").size() == 3);
     for (const auto& p : j.at("outputs")) CHECK(fs::exists(p.get<std::string>()));
+}
+
+TEST_CASE("curve_patterns along a curve in space (--curve3d, --twist)", "[cli][curve_patterns]") {
+    const std::string vec = (data_dir / "vector").string();
+    const std::string out = (work_dir / "cp3d_out.svg").string();
+    fs::remove(out);
+    std::string helix, ring;  // a helix of radius 30 mm rising 40 mm over 1.5 turns, and a closed wavy ring
+    for (int i = 0; i <= 300; ++i) {
+        const double a = 3 * 3.141592653589793 * i / 300;
+        helix += std::to_string(30 * std::cos(a)) + "," + std::to_string(30 * std::sin(a)) + "," + std::to_string(40.0 * i / 300) + "\n";
+    }
+    for (int i = 0; i < 240; ++i) {
+        const double a = 2 * 3.141592653589793 * i / 240;
+        ring += std::to_string(40 * std::cos(a)) + "," + std::to_string(40 * std::sin(a)) + "," + std::to_string(6 * std::cos(3 * a)) + "\n";
+    }
+    const std::string helix_csv = write_file("helix.csv", helix), ring_csv = write_file("ring.csv", ring);
+    const std::string bad_csv = write_file("bad_curve.csv", "0,0,0\n1.2.3,4\n");
+    for (const cli_case& c : std::vector<cli_case>{
+             {"twist without --curve3d", {"--exemplar", vec + "/greek_key.svg", "--line", "100", "--twist", "90", "--height", "10", "-o", out}, 2, "twist"},
+             {"closed with a quarter twist",
+              {"--exemplar", vec + "/greek_key.svg", "--curve3d", ring_csv, "--closed", "--twist", "90", "--height", "8", "-o", out}, 2, "360"},
+             {"malformed point", {"--exemplar", vec + "/greek_key.svg", "--curve3d", bad_csv, "--height", "8", "-o", out}, 5, "bad_curve.csv:2"},
+             {"band wider than the bend",
+              {"--exemplar", vec + "/greek_key.svg", "--curve3d", helix_csv, "--height", "80", "-o", out}, 2, "radius of curvature"},
+         })
+        check_case("curve_patterns", c);
+    CHECK_FALSE(fs::exists(out));
+    for (const auto& args : std::vector<std::vector<std::string>>{
+             {"--exemplar", vec + "/greek_key.svg", "--curve3d", helix_csv, "--twist", "180", "--height", "8", "--components", "1"},
+             {"--exemplar", vec + "/disks.svg", "--curve3d", ring_csv, "--closed", "--twist", "360", "--height", "8", "--components", "16"}}) {
+        std::vector<std::string> a = args;
+        a.insert(a.end(), {"-o", out, "--json"});
+        const result ok = run("curve_patterns", a);
+        INFO(ok.err);
+        REQUIRE(ok.code == 0);
+        const json j = json::parse(ok.out);
+        CHECK(std::to_string(j.at("components").get<int>()) == args.back());
+        const fabsynth::triangle_mesh m = fabsynth::io::read_mesh((work_dir / "cp3d_out.stl").string());
+        CHECK(fabsynth::analyze_topology(m).is_watertight());
+        CHECK(fs::exists(work_dir / "cp3d_out.png"));
+    }
 }
 
 namespace {
