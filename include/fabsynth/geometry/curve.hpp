@@ -93,6 +93,41 @@ inline bool any_contact(const std::vector<std::vector<vec2>>& lines, const std::
     for (const edge& e : edges) segs.emplace_back(e.a, e.b);
     return fabsynth::detail::any_segment_pair(segs, [&](std::size_t i, std::size_t j) { return contact(edges[i], edges[j]); });
 }
+
+/// Arc length s wrapped to [0, L) on a closed curve, clamped to [0, L] on an open one.
+[[nodiscard]] inline double wrap_arc_length(double s, double length, bool closed) noexcept {
+    if (!closed) return std::clamp(s, 0.0, length);
+    if (s >= 0.0 && s < length) return s;
+    double w = std::fmod(s, length);
+    if (w < 0.0) w += length;
+    return w >= length ? 0.0 : w;
+}
+/// The segment of a polyline holding arc length u: the last k with arc[k] <= u, at most the last
+/// segment (arc: the vertex arc lengths, one more than the segments).
+[[nodiscard]] inline std::size_t segment_at(const std::vector<double>& arc, double u) noexcept {
+    const auto it = std::upper_bound(arc.begin(), arc.end(), u);
+    const std::size_t k = it == arc.begin() ? 0 : static_cast<std::size_t>(it - arc.begin()) - 1;
+    return std::min(k, arc.size() - 2);
+}
+/// Where u lies along segment k, in [0, 1].
+[[nodiscard]] inline double fraction_in_segment(const std::vector<double>& arc, std::size_t k, double u) noexcept {
+    return std::clamp((u - arc[k]) / (arc[k + 1] - arc[k]), 0.0, 1.0);
+}
+/// A mitred polyline band's discrete radius of curvature (curve.hpp's file comment): the smallest
+/// len / |(m_1 - m_0) . t| over the segments, +inf if none shrinks; `tangent(k)` is segment k's
+/// unit tangent, mitre one vector per vertex (wrapping on closed curves).
+template <class Mitres, class Tangent>
+[[nodiscard]] double mitred_radius_of_curvature(const std::vector<double>& arc, const Mitres& mitre, Tangent&& tangent, double* at_arc_length) {
+    double best = std::numeric_limits<double>::infinity(), where = 0.0;
+    const std::size_t n = mitre.size(), segs = arc.size() - 1;
+    for (std::size_t k = 0; k < segs; ++k) {
+        const double len = arc[k + 1] - arc[k];
+        const double shrink = std::abs(glm::dot(mitre[(k + 1) % n] - mitre[k], tangent(k)));
+        if (shrink > 0.0 && len / shrink < best) best = len / shrink, where = arc[k];
+    }
+    if (at_arc_length) *at_arc_length = where;
+    return best;
+}
 }  // namespace detail::curve
 
 /// A planar curve with arc-length parametrisation: a polyline (open or closed) or an exact circle.
@@ -233,16 +268,9 @@ public:
             if (at_arc_length) *at_arc_length = 0.0;
             return radius_;
         }
-        double best = std::numeric_limits<double>::infinity(), where = 0.0;
-        const std::size_t n = points_.size(), segs = arc_.size() - 1;
-        for (std::size_t k = 0; k < segs; ++k) {
-            const double len = arc_[k + 1] - arc_[k];
-            const vec2 t = (points_[(k + 1) % n] - points_[k]) / len;
-            const double shrink = std::abs(glm::dot(mitre_[(k + 1) % n] - mitre_[k], t));
-            if (shrink > 0.0 && len / shrink < best) best = len / shrink, where = arc_[k];
-        }
-        if (at_arc_length) *at_arc_length = where;
-        return best;
+        const std::size_t n = points_.size();
+        return detail::curve::mitred_radius_of_curvature(
+            arc_, mitre_, [&](std::size_t k) { return (points_[(k + 1) % n] - points_[k]) / (arc_[k + 1] - arc_[k]); }, at_arc_length);
     }
 
     /// Throws invalid_input unless the band map is injective on u in [0, L], |v| <= half_height:
@@ -290,24 +318,11 @@ public:
     }
 
     /// Arc length wrapped to [0, L) on closed curves, clamped to [0, L] on open ones.
-    [[nodiscard]] double wrap(double s) const noexcept {
-        if (!closed_) return std::clamp(s, 0.0, length_);
-        if (s >= 0.0 && s < length_) return s;
-        double w = std::fmod(s, length_);
-        if (w < 0.0) w += length_;
-        return w >= length_ ? 0.0 : w;
-    }
+    [[nodiscard]] double wrap(double s) const noexcept { return detail::curve::wrap_arc_length(s, length_, closed_); }
 
 private:
-    [[nodiscard]] std::size_t segment_of(double u) const noexcept {
-        // last k with arc_[k] <= u, at most the last segment
-        const auto it = std::upper_bound(arc_.begin(), arc_.end(), u);
-        const std::size_t k = it == arc_.begin() ? 0 : static_cast<std::size_t>(it - arc_.begin()) - 1;
-        return std::min(k, arc_.size() - 2);
-    }
-    [[nodiscard]] double segment_fraction(std::size_t k, double u) const noexcept {
-        return std::clamp((u - arc_[k]) / (arc_[k + 1] - arc_[k]), 0.0, 1.0);
-    }
+    [[nodiscard]] std::size_t segment_of(double u) const noexcept { return detail::curve::segment_at(arc_, u); }
+    [[nodiscard]] double segment_fraction(std::size_t k, double u) const noexcept { return detail::curve::fraction_in_segment(arc_, k, u); }
 
     bool closed_ = false;
     bool is_circle_ = false;

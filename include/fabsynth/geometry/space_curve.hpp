@@ -43,6 +43,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
+#include "fabsynth/geometry/curve.hpp"
 
 namespace fabsynth {
 
@@ -189,15 +190,7 @@ public:
     /// The largest half-height h for which the band |v| < h does not fold (see the file comment);
     /// +inf for a straight, untwisted polyline.
     [[nodiscard]] double min_radius_of_curvature(double* at_arc_length = nullptr) const {
-        double best = std::numeric_limits<double>::infinity(), where = 0.0;
-        const std::size_t n = points_.size(), segs = arc_.size() - 1;
-        for (std::size_t k = 0; k < segs; ++k) {
-            const double len = arc_[k + 1] - arc_[k];
-            const double shrink = std::abs(glm::dot(mitre_[(k + 1) % n] - mitre_[k], tangent_[k]));
-            if (shrink > 0.0 && len / shrink < best) best = len / shrink, where = arc_[k];
-        }
-        if (at_arc_length) *at_arc_length = where;
-        return best;
+        return detail::curve::mitred_radius_of_curvature(arc_, mitre_, [&](std::size_t k) { return tangent_[k]; }, at_arc_length);
     }
 
     /// Throws invalid_input unless half_height is finite, >= 0 and below min_radius_of_curvature().
@@ -213,13 +206,7 @@ public:
     }
 
     /// Arc length wrapped to [0, L) on closed curves, clamped to [0, L] on open ones.
-    [[nodiscard]] double wrap(double s) const noexcept {
-        if (!closed_) return std::clamp(s, 0.0, length_);
-        if (s >= 0.0 && s < length_) return s;
-        double w = std::fmod(s, length_);
-        if (w < 0.0) w += length_;
-        return w >= length_ ? 0.0 : w;
-    }
+    [[nodiscard]] double wrap(double s) const noexcept { return detail::curve::wrap_arc_length(s, length_, closed_); }
 
 private:
     // up x t, or the axis least along t crossed with t when up is (nearly) along t.
@@ -241,14 +228,8 @@ private:
         const vec3 r = n - (glm::dot(n, b) / d) * (a + b);
         return glm::normalize(r - glm::dot(r, b) * b);
     }
-    [[nodiscard]] std::size_t segment_of(double u) const noexcept {
-        const auto it = std::upper_bound(arc_.begin(), arc_.end(), u);
-        const std::size_t k = it == arc_.begin() ? 0 : static_cast<std::size_t>(it - arc_.begin()) - 1;
-        return std::min(k, arc_.size() - 2);
-    }
-    [[nodiscard]] double segment_fraction(std::size_t k, double u) const noexcept {
-        return std::clamp((u - arc_[k]) / (arc_[k + 1] - arc_[k]), 0.0, 1.0);
-    }
+    [[nodiscard]] std::size_t segment_of(double u) const noexcept { return detail::curve::segment_at(arc_, u); }
+    [[nodiscard]] double segment_fraction(std::size_t k, double u) const noexcept { return detail::curve::fraction_in_segment(arc_, k, u); }
 
     bool closed_ = false;
     double length_ = 0.0;
