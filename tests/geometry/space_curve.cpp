@@ -220,4 +220,22 @@ TEST_CASE("space curve extrusion: bands along a helix and a closed saddle are wa
     }
 }
 
+TEST_CASE("space curve: given up directions equal to the transport's binormals give the same band", "[geometry][space_curve]") {
+    // a curve in the plane z = 2: the rotation-minimising binormal is z everywhere
+    std::vector<vec3> p;
+    for (int i = 0; i <= 40; ++i) p.push_back({2.0 * i, 12.0 * std::sin(0.15 * i), 2.0});
+    const space_curve rmf = space_curve::polyline(p, false);
+    const space_curve given = space_curve::with_up_directions(p, std::vector<vec3>(p.size(), vec3(0, 0, 3)), false);
+    for (double u = 0; u <= rmf.length(); u += 0.37)
+        for (double v : {-4.0, 0.0, 2.5})
+            REQUIRE(glm::length(rmf.band_point(u, v, 1.0) - given.band_point(u, v, 1.0)) < 1e-12);
+    // a tilted up direction: the band stays orthogonal to it at the vertices
+    std::vector<vec3> up(p.size(), glm::normalize(vec3(0.0, -0.3, 1.0)));
+    const space_curve tilted = space_curve::with_up_directions(p, up, false);
+    for (std::size_t i = 0; i < p.size(); ++i) CHECK(std::abs(glm::dot(tilted.offset_direction(tilted.vertex_arc_lengths()[i]), up[i])) < 1e-12);
+    CHECK_THROWS_AS(space_curve::with_up_directions(p, std::vector<vec3>(3, vec3(0, 0, 1)), false), invalid_input);
+    CHECK_THROWS_AS(space_curve::with_up_directions(p, std::vector<vec3>(p.size(), vec3(0)), false), invalid_input);
+    CHECK_THROWS_AS(space_curve::with_up_directions({{0, 0, 0}, {1, 0, 0}}, {{1, 0, 0}, {1, 0, 0}}, false), invalid_input);  // up along t
+}
+
 }  // namespace geometry_space_curve_extrude_test

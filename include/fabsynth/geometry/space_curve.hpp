@@ -15,6 +15,8 @@
 /// with arc length, twist_degrees over the whole curve. A closed curve must come back to its own
 /// frame: the transport's holonomy (the angle the carried normal is off after one loop) is taken
 /// out linearly along the curve, and twist_degrees must be a multiple of 360.
+/// with_up_directions() replaces the transport by given directions, one per vertex (a curve on a
+/// surface keeps its band in the surface's tangent plane: the binormal follows the surface normal).
 ///
 /// Band map. As for planar polylines (curve.hpp's file comment): at vertex i the two adjacent
 /// segment normals n_a, n_b (twisted alike) give the mitre vector m_i = (n_a + n_b) / (1 + n_a .
@@ -66,36 +68,14 @@ public:
     /// first point at the end and consecutive duplicates are dropped). Throws invalid_input as
     /// listed in the file comment.
     [[nodiscard]] static space_curve polyline(std::vector<vec3> points, bool closed, const space_curve_options& opt = {}) {
-        for (std::size_t i = 0; i < points.size(); ++i)
-            if (!all_finite(points[i])) throw invalid_input("space curve: point " + std::to_string(i) + " is not finite");
         if (!std::isfinite(opt.twist_degrees)) throw invalid_input("space curve: twist must be finite");
         if (!all_finite(opt.up)) throw invalid_input("space curve: up vector is not finite");
-        std::vector<vec3> p;
-        for (const vec3& q : points)
-            if (p.empty() || q != p.back()) p.push_back(q);
-        if (closed)
-            while (p.size() > 1 && p.back() == p.front()) p.pop_back();
-        if (p.size() < 2 || (closed && p.size() < 3))
-            throw invalid_input("space curve: needs at least " + std::string(closed ? "3" : "2") + " distinct points, got " +
-                                std::to_string(p.size()));
+        space_curve c = with_vertices(std::move(points), closed);
         if (closed && std::abs(std::remainder(opt.twist_degrees, 360.0)) > 1e-9)
             throw invalid_input("space curve: a closed curve's twist must be a multiple of 360 degrees (its frame must come back), got " +
                                 std::to_string(opt.twist_degrees));
-        space_curve c;
-        c.closed_ = closed;
-        c.points_ = std::move(p);
-        const std::size_t n = c.points_.size(), segs = closed ? n : n - 1;
-        c.arc_.assign(segs + 1, 0.0);
-        std::vector<vec3> t(segs);
-        for (std::size_t k = 0; k < segs; ++k) {
-            const vec3 d = c.points_[(k + 1) % n] - c.points_[k];
-            const double len = glm::length(d);
-            if (!(len > 0.0) || !std::isfinite(len)) throw invalid_input("space curve: segment " + std::to_string(k) + " has no length");
-            c.arc_[k + 1] = c.arc_[k] + len;
-            t[k] = d / len;
-        }
-        c.length_ = c.arc_.back();
-        c.tangent_ = t;
+        const std::vector<vec3>& t = c.tangent_;
+        const std::size_t segs = t.size();
         // rotation-minimising segment normals (no twist yet)
         std::vector<vec3> nu(segs);
         nu[0] = first_normal(t[0], opt.up);
@@ -106,33 +86,37 @@ public:
             const vec3 back = carry(nu[segs - 1], t[segs - 1], t[0], 0);
             extra -= std::atan2(glm::dot(glm::cross(nu[0], back), t[0]), glm::dot(nu[0], back));  // remove the holonomy
         }
-        // twist angle at arc length s: extra * s / L; segment k's normal at its two ends
-        const auto turned = [&](std::size_t k, double s) {
+        // twist angle at arc length s: extra * s / L; segment k's normal where it meets vertex i
+        c.build_mitres([&](std::size_t k, std::size_t i) {
+            const double s = c.arc_[closed && i == 0 && k + 1 == segs ? segs : i];
             const double a = extra * s / c.length_;
             return std::cos(a) * nu[k] + std::sin(a) * glm::cross(t[k], nu[k]);
-        };
-        c.mitre_.resize(n);
-        c.binormal_.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const bool has_prev = closed || i > 0, has_next = closed || i + 1 < n;
-            const std::size_t ka = (i + segs - 1) % segs, kb = i % segs;
-            if (!has_prev) {
-                c.mitre_[i] = turned(kb, 0.0);
-                c.binormal_[i] = glm::cross(t[kb], c.mitre_[i]);
-                continue;
-            }
-            if (!has_next) {
-                c.mitre_[i] = turned(ka, c.length_);
-                c.binormal_[i] = glm::cross(t[ka], c.mitre_[i]);
-                continue;
-            }
-            const vec3 na = turned(ka, c.arc_[i == 0 ? segs : i]), nb = turned(kb, c.arc_[i]);
-            const double d = 1.0 + glm::dot(na, nb);
-            if (!(d > 1e-12) || !(1.0 + glm::dot(t[ka], t[kb]) > 1e-12))
-                throw invalid_input("space curve: the polyline turns back on itself at vertex " + std::to_string(i));
-            c.mitre_[i] = (na + nb) / d;
-            c.binormal_[i] = glm::normalize(glm::cross(glm::normalize(t[ka] + t[kb]), glm::normalize(c.mitre_[i])));
+        });
+        return c;
+    }
+
+    /// Polyline through `points` whose binormal (the band's thickness direction w) follows the
+    /// given unit `up` directions, one per point (a surface normal for a curve on a surface,
+    /// geometry/surface_curve.hpp): segment k's normal at vertex i is up_i x t_k normalised, so
+    /// the band (v) lies in the plane normal to up_i. Point preprocessing and errors as polyline();
+    /// also invalid_input if the counts differ or an up direction is not finite, zero or along a
+    /// tangent at its vertex. No twist is added.
+    [[nodiscard]] static space_curve with_up_directions(std::vector<vec3> points, const std::vector<vec3>& up, bool closed) {
+        if (up.size() != points.size())
+            throw invalid_input("space curve: " + std::to_string(up.size()) + " up directions for " + std::to_string(points.size()) + " points");
+        std::vector<vec3> kept_up;  // the directions of the points polyline() keeps
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            if (!all_finite(up[i]) || !(glm::length(up[i]) > 0.0)) throw invalid_input("space curve: up direction " + std::to_string(i) + " is not finite and non-zero");
+            if (i == 0 || points[i] != points[i - 1]) kept_up.push_back(glm::normalize(up[i]));
         }
+        space_curve c = with_vertices(std::move(points), closed);
+        kept_up.resize(c.points_.size());
+        c.build_mitres([&](std::size_t k, std::size_t i) {
+            const vec3 n = glm::cross(kept_up[i], c.tangent_[k]);
+            if (!(glm::length(n) > 1e-9))
+                throw invalid_input("space curve: the up direction at vertex " + std::to_string(i) + " is along the curve's tangent");
+            return glm::normalize(n);
+        });
         return c;
     }
 
@@ -209,6 +193,64 @@ public:
     [[nodiscard]] double wrap(double s) const noexcept { return detail::curve::wrap_arc_length(s, length_, closed_); }
 
 private:
+    // The vertices, arc lengths and segment tangents; checks and drops duplicates as polyline().
+    [[nodiscard]] static space_curve with_vertices(std::vector<vec3> points, bool closed) {
+        for (std::size_t i = 0; i < points.size(); ++i)
+            if (!all_finite(points[i])) throw invalid_input("space curve: point " + std::to_string(i) + " is not finite");
+        std::vector<vec3> p;
+        for (const vec3& q : points)
+            if (p.empty() || q != p.back()) p.push_back(q);
+        if (closed)
+            while (p.size() > 1 && p.back() == p.front()) p.pop_back();
+        if (p.size() < 2 || (closed && p.size() < 3))
+            throw invalid_input("space curve: needs at least " + std::string(closed ? "3" : "2") + " distinct points, got " +
+                                std::to_string(p.size()));
+        space_curve c;
+        c.closed_ = closed;
+        c.points_ = std::move(p);
+        const std::size_t n = c.points_.size(), segs = closed ? n : n - 1;
+        c.arc_.assign(segs + 1, 0.0);
+        c.tangent_.resize(segs);
+        for (std::size_t k = 0; k < segs; ++k) {
+            const vec3 d = c.points_[(k + 1) % n] - c.points_[k];
+            const double len = glm::length(d);
+            if (!(len > 0.0) || !std::isfinite(len)) throw invalid_input("space curve: segment " + std::to_string(k) + " has no length");
+            c.arc_[k + 1] = c.arc_[k] + len;
+            c.tangent_[k] = d / len;
+        }
+        c.length_ = c.arc_.back();
+        return c;
+    }
+    // Mitre and binormal per vertex from segment_normal(k, i), the unit normal of segment k where
+    // it meets vertex i (see the file comment).
+    template <class SegmentNormal>
+    void build_mitres(SegmentNormal&& segment_normal) {
+        const std::vector<vec3>& t = tangent_;
+        const std::size_t n = points_.size(), segs = t.size();
+        mitre_.resize(n);
+        binormal_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool has_prev = closed_ || i > 0, has_next = closed_ || i + 1 < n;
+            const std::size_t ka = (i + segs - 1) % segs, kb = i % segs;
+            if (!has_prev) {
+                mitre_[i] = segment_normal(kb, i);
+                binormal_[i] = glm::cross(t[kb], mitre_[i]);
+                continue;
+            }
+            if (!has_next) {
+                mitre_[i] = segment_normal(ka, i);
+                binormal_[i] = glm::cross(t[ka], mitre_[i]);
+                continue;
+            }
+            const vec3 na = segment_normal(ka, i), nb = segment_normal(kb, i);
+            const double d = 1.0 + glm::dot(na, nb);
+            if (!(d > 1e-12) || !(1.0 + glm::dot(t[ka], t[kb]) > 1e-12))
+                throw invalid_input("space curve: the polyline turns back on itself at vertex " + std::to_string(i));
+            mitre_[i] = (na + nb) / d;
+            binormal_[i] = glm::normalize(glm::cross(glm::normalize(t[ka] + t[kb]), glm::normalize(mitre_[i])));
+        }
+    }
+
     // up x t, or the axis least along t crossed with t when up is (nearly) along t.
     [[nodiscard]] static vec3 first_normal(const vec3& t, const vec3& up) {
         vec3 n = glm::cross(up, t);
