@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/space_curve.hpp"
 #include "fabsynth/geometry/surface_decoration.hpp"
@@ -81,7 +82,7 @@ TEST_CASE("surface decoration: emboss and carve on a plate, volumes and topology
         const auto topo = fabsynth::test::raster_topology(shapes, {-5, -20}, {55, 20}, 0.05);
         const double a = pattern_area(shapes);
         {
-            const triangle_mesh m = decorate_surface(base, band, shapes, {.mode = decoration_mode::emboss, .shell = shell, .height = relief, .cell = 0.2});
+            const triangle_mesh m = decorate_surface(base, band, shapes, {.mode = decoration_mode::emboss, .shell = shell, .height = relief, .cell = 0.25});
             const mesh_topology_info info = analyze_topology(m);
             REQUIRE(info.is_watertight());
             CHECK(info.components == 1);
@@ -92,7 +93,7 @@ TEST_CASE("surface decoration: emboss and carve on a plate, volumes and topology
             CHECK(b.lo.z == Approx(-shell / 2).margin(0.05));
         }
         {
-            const triangle_mesh m = decorate_surface(base, band, shapes, {.mode = decoration_mode::carve, .shell = shell, .cell = 0.2});
+            const triangle_mesh m = decorate_surface(base, band, shapes, {.mode = decoration_mode::carve, .shell = shell, .cell = 0.25});
             const mesh_topology_info info = analyze_topology(m);
             REQUIRE(info.is_watertight());
             CHECK(info.components == 1 + topo.holes);      // each hole of the pattern leaves an island
@@ -120,7 +121,7 @@ TEST_CASE("surface decoration: the relief follows a curved surface", "[geometry]
     // the band runs along the generator x = 0 (a line of the mesh), with v around the cylinder
     const space_curve band = space_curve::polyline({{0, 4, 30}, {0, 36, 30}}, false, {.up = {0, 0, 1}});
     const std::vector<polygon_with_holes> bar{rect(4, 28, -12, 12)};  // 24 mm across: wraps around the cylinder
-    const triangle_mesh out = decorate_surface(m, band, bar, {.mode = decoration_mode::emboss, .shell = shell, .height = relief, .cell = 0.2});
+    const triangle_mesh out = decorate_surface(m, band, bar, {.mode = decoration_mode::emboss, .shell = shell, .height = relief, .cell = 0.25});
     const mesh_topology_info info = analyze_topology(out);
     REQUIRE(info.is_watertight());
     CHECK(info.components == 1);
@@ -130,6 +131,30 @@ TEST_CASE("surface decoration: the relief follows a curved surface", "[geometry]
     for (const vec3& p : out.vertices)
         if (p.y > 12 && p.y < 28) top = std::max(top, std::hypot(p.x, p.z));
     CHECK(top == Approx(30 + shell / 2 + relief).margin(0.05));
+}
+
+TEST_CASE("surface decoration: band coordinates are continuous around the bends of the polyline", "[geometry][decoration]") {
+    // a coarse polyline bending in and out of its band's plane (15 degrees per vertex)
+    std::vector<vec3> p;
+    for (int i = 0; i <= 12; ++i) p.push_back({8.0 * std::sin(0.26 * i) * 10, 10.0 * i, 6.0 * std::cos(0.2 * i)});
+    const space_curve c = space_curve::polyline(p, false);
+    const detail::decoration::band_coordinates coords(c);
+    const mesh_distance on_curve(detail::decoration::polyline_mesh(c));
+    // walks along the curve at offsets up to 4 mm across it (the band lies along x, v = -x), in
+    // steps of a few um: u and v move by a few steps at most (a closest-point u jumps by offset x bend)
+    double worst = 0.0;
+    for (const vec3 off : {vec3(3, 0, 1.5), vec3(-3, 0, -1.5), vec3(4, 0, 0), vec3(-4, 0, 1)}) {  // across the band, and off its plane
+        vec2 last{0};
+        for (int i = 0; i <= 100000; ++i) {
+            const double y = 20.0 + 60.0 * i / 100000;
+            const double s = y / 10.0;  // follow the curve's x and z at this height, offset
+            const vec3 q = vec3(8.0 * std::sin(0.26 * s) * 10, y, 6.0 * std::cos(0.2 * s)) + off;
+            const vec2 uv = coords(q, on_curve.closest(q).face);
+            if (i > 0) worst = std::max(worst, glm::length(uv - last));
+            last = uv;
+        }
+    }
+    CHECK(worst < 0.01);  // steps are 0.6 um along y, ~2 um in space
 }
 
 TEST_CASE("surface decoration: bad input is refused", "[geometry][decoration]") {

@@ -11,9 +11,10 @@
 ///
 /// Solid. Every point p near the surface has its closest surface point q, its offset
 /// w = +-|p - q| (positive on the side the surface's normals point to: area-weighted vertex
-/// normals interpolated at q) and band coordinates of q: u = arc length of q's closest point c on
-/// the curve plus (q - c) . t (so ends of open curves are not extended), and v = +-|the rest of
-/// q - c| on the side of the band's offset direction. So the pattern is laid on the surface itself,
+/// normals interpolated at q) and band coordinates of q: u from the plane through q of a family
+/// sweeping the curve (the mitre planes at its vertices, interpolated in between, so u is
+/// continuous in q, which the closest point on a polyline is not), and v = +-q's distance from
+/// the curve in that plane, on the side of the band's offset direction. So the pattern is laid on the surface itself,
 /// without the tangent-plane band's gap where the surface curves away, and its walls follow the
 /// surface normal. With s(u, v) the signed distance to the pattern (< 0 inside):
 ///   shell   : |w| <= shell / 2 (the surface thickened, centred on it, as thicken_surface does);
@@ -152,6 +153,84 @@ private:
     std::vector<float> sd_;
 };
 
+// Band coordinates (u, v) of a point q near the curve, continuous in q. The closest point on the
+// polyline is not: on the inner side of each vertex's bend (in the band, or toward the surface the
+// curve bends with) it jumps from one segment to the next, and so would u, by about the offset
+// times the bend angle. Instead q is cut by a family of planes that sweeps the curve: at each vertex
+// the mitre plane (normal: the mean of the two segments' tangents, the plane the mitred band map
+// puts the vertex's cross-section in), in between the plane whose normal interpolates the two ends'
+// linearly. The plane through q gives u; v is q's distance from the curve within that plane, signed
+// by the band's offset direction. On segment k with ends P, P + D and plane normals T0, T1, q's
+// plane is at the root a in [0, 1] of (q - P - a D) . (T0 + a (T1 - T0)), a quadratic.
+class band_coordinates {
+public:
+    explicit band_coordinates(const space_curve& c) : curve_(c) {
+        const std::vector<vec3>& p = c.vertices();
+        const std::size_t n = p.size(), segs = c.closed() ? n : n - 1;
+        std::vector<vec3> t(segs);
+        for (std::size_t k = 0; k < segs; ++k) t[k] = glm::normalize(p[(k + 1) % n] - p[k]);
+        plane_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool has_prev = c.closed() || i > 0, has_next = c.closed() || i + 1 < n;
+            const vec3 a = has_prev ? t[(i + segs - 1) % segs] : t[0], b = has_next ? t[i % segs] : t[segs - 1];
+            plane_[i] = glm::normalize(a + b);
+        }
+        segs_ = segs;
+    }
+
+    /// (u, v) of q, starting the search at segment `k` (the segment of q's closest point).
+    [[nodiscard]] vec2 operator()(const vec3& q, std::size_t k) const {
+        const std::vector<vec3>& p = curve_.vertices();
+        const std::vector<double>& arc = curve_.vertex_arc_lengths();
+        const std::size_t n = p.size();
+        for (int steps = 0; steps < 8; ++steps) {
+            const vec3 P = p[k], D = p[(k + 1) % n] - P, T0 = plane_[k], T1 = plane_[(k + 1) % n];
+            const vec3 r = q - P;
+            const double g0 = glm::dot(r, T0), g1 = glm::dot(r - D, T1);
+            if (g0 < 0.0 && (curve_.closed() || k > 0)) {  // q's plane is before this segment
+                k = (k + segs_ - 1) % segs_;
+                continue;
+            }
+            if (g1 > 0.0 && (curve_.closed() || k + 1 < segs_)) {  // after it
+                k = (k + 1) % segs_;
+                continue;
+            }
+            // g(a) = g0 + a (r . (T1 - T0) - D . T0) - a^2 D . (T1 - T0): its root in [0, 1] (beyond
+            // the ends of an open curve, the end plane moved along the end tangent)
+            double a;
+            if (g0 < 0.0) {
+                a = g0 / glm::dot(D, T0);
+            } else if (g1 > 0.0) {
+                a = 1.0 + g1 / glm::dot(D, T1);
+            } else {
+                const double A = -glm::dot(D, T1 - T0), B = glm::dot(r, T1 - T0) - glm::dot(D, T0), C = g0;
+                a = root_in_unit(A, B, C);
+            }
+            const double len = arc[k + 1] - arc[k];
+            const vec3 across = q - (P + a * D);
+            const double u0 = arc[k] + a * len;
+            const double v = std::copysign(glm::length(across), glm::dot(across, curve_.offset_direction(std::clamp(u0, 0.0, curve_.length()))));
+            return {curve_.closed() ? curve_.wrap(u0) : u0, v};
+        }
+        return {std::numeric_limits<double>::infinity(), 0.0};  // in a fold of the band: no coordinates
+    }
+
+private:
+    // The root in [0, 1] of A a^2 + B a + C with C >= 0 >= A + B + C (it exists by continuity).
+    [[nodiscard]] static double root_in_unit(double A, double B, double C) {
+        if (std::abs(A) <= 1e-12 * (std::abs(B) + std::abs(C))) return std::clamp(B != 0.0 ? -C / B : 0.0, 0.0, 1.0);
+        const double disc = std::max(0.0, B * B - 4 * A * C), sq = std::sqrt(disc);
+        const double q = -0.5 * (B + std::copysign(sq, B));  // stable pair of roots q / A and C / q
+        const double r1 = q / A, r2 = q != 0.0 ? C / q : r1;
+        const auto inside = [](double x) { return x >= -1e-9 && x <= 1 + 1e-9; };
+        return std::clamp(inside(r1) && (!inside(r2) || std::abs(r1 - 0.5) <= std::abs(r2 - 0.5)) ? r1 : r2, 0.0, 1.0);
+    }
+
+    const space_curve& curve_;
+    std::vector<vec3> plane_;  // mitre-plane normal per vertex
+    std::size_t segs_ = 0;
+};
+
 // The curve's polyline as a mesh of degenerate triangles (k, k+1, k+1): mesh_distance then finds
 // the closest point on the polyline, with the segment as the face.
 [[nodiscard]] inline triangle_mesh polyline_mesh(const space_curve& c) {
@@ -195,25 +274,18 @@ private:
     const mesh_distance on_surface(surface);
     const std::vector<vec3> normals = vertex_normals(surface);
     const mesh_distance on_curve(detail::decoration::polyline_mesh(curve));
-    const std::vector<double>& arc = curve.vertex_arc_lengths();
-    const std::vector<vec3>& cv = curve.vertices();
     double v_reach = 0.0;  // the farthest a pattern point is from the curve, plus the raster's margin
     for (const auto& p : pattern)
         for (const vec2& x : p.outer) v_reach = std::max(v_reach, std::abs(x.y));
     v_reach += 4 * cell;
 
     // s at the band coordinates of surface point q; +inf away from the band
+    const detail::decoration::band_coordinates coords(curve);
     const auto pattern_distance = [&](const vec3& q) {
         const mesh_closest c = on_curve.closest(q, v_reach);
         if (!c.found()) return std::numeric_limits<double>::infinity();
-        const std::size_t k = c.face;
-        const vec3 a = cv[k], b = cv[(k + 1) % cv.size()];
-        const vec3 t = glm::normalize(b - a), d = q - c.point;
-        const double along = glm::dot(d, t);
-        const double u0 = arc[k] + glm::length(c.point - a);
-        const vec3 across = d - along * t;
-        const double v = std::copysign(glm::length(across), glm::dot(across, curve.offset_direction(u0)));
-        return s(curve.closed() ? curve.wrap(u0 + along) : u0 + along, v);
+        const vec2 uv = coords(q, c.face);
+        return s(uv.x, uv.y);
     };
     const auto field = [&](ivec3 ip) -> double {
         const vec3 p = box.lo + cell * vec3(ip);
