@@ -2,7 +2,8 @@
 // (Zhou, Jiang & Lefebvre 2014, "Topology-constrained synthesis of vector patterns").
 //
 //   curve_patterns --exemplar E.svg (--curve C.svg | --line LENGTH | --circle RADIUS | --rect W H |
-//                  --curve3d C.csv [--twist DEG]) --height H [--components N] [--holes M] [--closed] [--closed-loop] [--seed S]
+//                  --curve3d C.csv [--twist DEG] | --mesh M.obj --points P.csv (--emboss H [--shell T] | --carve T) [--cell C])
+//                  --height H [--components N] [--holes M] [--closed] [--closed-loop] [--seed S]
 //                  [--thickness T] [--tolerance TOL] [--slicing reeb|uniform] [--beta B] -o OUT.svg
 //
 // The exemplar (filled shapes of an SVG band lying along x) is scaled uniformly so that its height
@@ -15,12 +16,21 @@
 // when --closed); the band lies along the frame's normal and the STL's thickness along its
 // binormal; OUT.svg is then the developed band (u along the curve, v across) and OUT.png a shaded
 // render of the solid from two opposite sides.
+// --mesh/--points: a curve drawn on a disk-topology surface (§6.3): the points (x,y,z rows, mm,
+// snapped to the mesh) are joined by a spline in the mesh's harmonic parameterization
+// (geometry/disk_parameterization.hpp, geometry/surface_curve.hpp), with smoothed surface normals;
+// the pattern is then embossed H mm above a shell of --shell mm around the surface, or carved out of
+// a shell of T mm (geometry/surface_decoration.hpp), and OUT.stl is that one watertight solid;
+// OUT.svg is the developed band and OUT.png a shaded render from two sides.
 // Outputs: OUT.svg (filled shapes only), OUT.stl and OUT.3mf (where lib3mf is available; T mm thick, the SVG's y axis flipped so the print
 // looks like the drawing), OUT.png (preview, pattern dark on white: geometry/coverage_image.hpp). Nothing is written unless
 // everything succeeded; an impossible request exits with status 3 and the reason on stderr.
 // Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
 
 #include <fabsynth/geometry/curve.hpp>
+#include <fabsynth/geometry/disk_parameterization.hpp>
+#include <fabsynth/geometry/surface_curve.hpp>
+#include <fabsynth/geometry/surface_decoration.hpp>
 #include <fabsynth/geometry/extrude.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/geometry/render.hpp>
@@ -28,6 +38,7 @@
 #include <fabsynth/io/points.hpp>
 #include <fabsynth/geometry/triangulate.hpp>
 #include <fabsynth/io/image.hpp>
+#include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
 #include <fabsynth/io/svg.hpp>
 #if defined(FABSYNTH_HAS_LIB3MF)
@@ -64,11 +75,11 @@ int main(int argc, char** argv) {
         "curve's inside, which the drawing shows as one more enclosed region.",
         "curve_patterns"};
     tool::common common(app);
-    std::string exemplar_path, curve_path, curve3d_path, out_path, slicing = "reeb";
+    std::string exemplar_path, curve_path, curve3d_path, mesh_path, points_path, out_path, slicing = "reeb";
     std::optional<double> line_length, circle_radius;
     std::vector<double> rect;
     double height = 0, thickness = 1.0, tolerance = 0.0, beta = 0.0;
-    std::optional<double> twist;
+    std::optional<double> twist, emboss, carve, shell, cell;
     std::optional<std::uint32_t> components, holes;
     bool closed = false, closed_loop = false;
     std::uint64_t seed = 0;
@@ -80,6 +91,16 @@ int main(int argc, char** argv) {
     auto* o_curve3d = app.add_option("--curve3d", curve3d_path, "curve in space: CSV of x,y,z rows (mm), a polyline")->check(CLI::ExistingFile);
     app.add_option("--twist", twist, "--curve3d: extra turn of the band about the curve over its length (degrees)")->needs(o_curve3d);
     o_curve3d->excludes(o_curve, o_line, o_circle, o_rect);
+    auto* o_mesh = app.add_option("--mesh", mesh_path, "surface to decorate: a disk-topology mesh (OBJ, STL, PLY, mm)")->check(CLI::ExistingFile);
+    auto* o_points = app.add_option("--points", points_path, "--mesh: CSV of x,y,z rows (mm), points on the surface the band's curve passes through")
+                         ->check(CLI::ExistingFile)
+                         ->needs(o_mesh);
+    o_mesh->needs(o_points)->excludes(o_curve, o_line, o_circle, o_rect, o_curve3d);
+    auto* o_emboss = app.add_option("--emboss", emboss, "--mesh: relief height above the shell (mm)")->needs(o_mesh);
+    auto* o_carve = app.add_option("--carve", carve, "--mesh: cut the pattern out of a shell this thick (mm)")->needs(o_mesh)->excludes(o_emboss);
+    app.add_option("--shell", shell, "--emboss: thickness of the shell around the surface (mm, default 2)")->needs(o_emboss);
+    app.add_option("--cell", cell, "--mesh: grid spacing of the solid (mm; default a quarter of the relief or shell, at most --height/40)")->needs(o_mesh);
+    (void)o_carve;
     o_curve->excludes(o_line, o_circle, o_rect);
     o_line->excludes(o_circle, o_rect);
     o_circle->excludes(o_rect);
@@ -102,9 +123,12 @@ int main(int argc, char** argv) {
         stl_out.replace_extension(".stl");
         png_out.replace_extension(".png");
         threemf_out.replace_extension(".3mf");
-        tool::check_outputs({exemplar_path, curve_path, curve3d_path}, {svg_out, stl_out, png_out, threemf_out});
-        const int shapes_given = !curve_path.empty() + line_length.has_value() + circle_radius.has_value() + !rect.empty() + !curve3d_path.empty();
-        if (shapes_given != 1) throw invalid_input("give exactly one of --curve, --line, --circle, --rect, --curve3d");
+        tool::check_outputs({exemplar_path, curve_path, curve3d_path, mesh_path, points_path}, {svg_out, stl_out, png_out, threemf_out});
+        const int shapes_given =
+            !curve_path.empty() + line_length.has_value() + circle_radius.has_value() + !rect.empty() + !curve3d_path.empty() + !mesh_path.empty();
+        if (shapes_given != 1) throw invalid_input("give exactly one of --curve, --line, --circle, --rect, --curve3d, --mesh");
+        const bool on_surface = !mesh_path.empty();
+        if (on_surface && !emboss && !carve) throw invalid_input("--mesh needs --emboss H or --carve T");
         if (twist && !std::isfinite(*twist)) throw invalid_input("--twist must be finite");
         // Lengths between 1 um and 100 m, and bands at most 1e5 heights long: beyond, the geometry's
         // tolerances (relative to the band height) underflow or overflow.
@@ -120,7 +144,11 @@ int main(int argc, char** argv) {
         if (circle_radius) require_band_length(2 * 3.14159265358979 * tool::require_range(*circle_radius, min_mm, max_mm, "--circle", "mm"), "--circle length");
         if (rect.size() == 2) require_band_length(rect[0], "--rect width"), tool::require_range(rect[1], min_mm, max_mm, "--rect height", "mm");
         if (!(beta >= 0.0) || !std::isfinite(beta)) throw invalid_input("--beta must be finite and >= 0");
-        if (closed && (line_length || !rect.empty())) throw invalid_input("--closed applies to --curve and --curve3d (a --circle is always closed)");
+        if (closed && (line_length || !rect.empty())) throw invalid_input("--closed applies to --curve, --curve3d and --mesh (a --circle is always closed)");
+        if (emboss) tool::require_range(*emboss, min_mm, max_mm, "--emboss", "mm");
+        if (carve) tool::require_range(*carve, min_mm, max_mm, "--carve", "mm");
+        if (shell) tool::require_range(*shell, min_mm, max_mm, "--shell", "mm");
+        if (cell) tool::require_range(*cell, min_mm, max_mm, "--cell", "mm");
         if (slicing != "reeb" && slicing != "uniform") throw invalid_input("--slicing must be reeb or uniform, got '" + slicing + "'");
         tool::output_set outputs;  // the files appear together at the end of a successful run
         const fs::path svg_file = outputs.add(svg_out), stl_file = outputs.add(stl_out), png_file = outputs.add(png_out);
@@ -148,8 +176,33 @@ int main(int argc, char** argv) {
         std::vector<polygon_with_holes> drawn;  // output shapes in the plane (SVG user units = mm)
         triangle_mesh mesh;
         std::string what;
-        const bool in_space = !curve3d_path.empty();
-        if (in_space) {
+        const bool in_space = !curve3d_path.empty() || on_surface;
+        std::size_t crossings = 0;
+        if (on_surface) {
+            progress(0.05, "parameterize the surface");
+            const triangle_mesh surface = io::read_mesh(mesh_path);
+            const disk_parameterization phi(surface);
+            const surface_curve drawn_curve = trace_surface_curve(phi, io::read_points_csv(points_path), closed);
+            crossings = drawn_curve.edge_crossings;
+            // the band at its own scale: points closer than H/8 merged (surface_curve.hpp's band_curve)
+            const space_curve curve = drawn_curve.band_curve(height / 8.0);
+            curve.check_band(0.5 * height);
+            so.length = curve.length();
+            require_band_length(so.length, "--points curve length");
+            so.closed = curve.closed();
+            if (so.closed_loop && !so.closed) throw invalid_input("--closed-loop needs a closed curve (--mesh with --closed)");
+            res = vector_pattern::synthesize_along(ex, so);
+            drawn = res.polygons;  // the developed band
+            progress(0.5, "decorate the surface");
+            surface_decoration_options deco;
+            deco.mode = emboss ? decoration_mode::emboss : decoration_mode::carve;
+            deco.shell = emboss ? shell.value_or(2.0) : *carve;
+            deco.height = emboss.value_or(1.0);
+            deco.cell = cell.value_or(std::min(0.25 * (emboss ? std::min(deco.shell, deco.height) : deco.shell), height / 40.0));
+            mesh = decorate_surface(surface, curve, res.polygons, deco);
+            what = std::string(emboss ? "embossed" : "carved") + (curve.closed() ? " closed" : " open") + " band of length " + std::to_string(curve.length()) +
+                   " on " + mesh_path;
+        } else if (!curve3d_path.empty()) {
             const space_curve curve = space_curve::polyline(io::read_points_csv(curve3d_path), closed, {.twist_degrees = twist.value_or(0.0)});
             curve.check_band(0.5 * height);  // the exemplar itself (|v| <= H/2) must fit the band
             so.length = curve.length();
@@ -208,7 +261,8 @@ int main(int argc, char** argv) {
         progress(0.8, "mesh");
         if (!in_space) mirror_y(mesh);  // STL in a y-up frame (the SVG is y-down); a space curve keeps its CSV's frame
         weld_to_float(mesh);
-        require_watertight(mesh, "the extruded mesh, rounded to single precision,");
+        require_watertight(mesh, on_surface ? "the decorated solid, rounded to single precision," : "the extruded mesh, rounded to single precision,");
+        const mesh_topology_info solid = on_surface ? analyze_topology(mesh) : mesh_topology_info{};
 
         const box2 bounds = bounding_box(drawn);
         if (bounds.empty()) throw solver_error("the synthesized pattern is empty");
@@ -232,16 +286,25 @@ int main(int argc, char** argv) {
         progress(1.0, "write");
         // the distortion: every piece is stretched along the curve by L / (its pieces' natural length)
         const double stretch = so.length > 0 && res.achieved_length > 0 ? so.length / res.achieved_length : 1.0;
+        const std::string thick = on_surface ? "" : ", " + std::to_string(thickness) + " mm thick";
         char line[640];
         std::snprintf(line, sizeof line,
                       "%s: %s, exemplar %s scaled to height %g\npieces: %zu input, %zu in result, natural length %.2f mm "
                       "stretched by %.3f; DP %.3f s (%zu entries, %.1f MB)\n"
-                      "topology: %u components, %u holes; %zu rings drawn; STL %zu triangles, %g mm thick",
+                      "topology: %u components, %u holes; %zu rings drawn; STL %zu triangles%s",
                       svg_out.string().c_str(), what.c_str(), exemplar_path.c_str(), height, res.input_pieces, res.sequence.size(),
                       res.achieved_length, stretch, res.dp_seconds, res.dp_entries, static_cast<double>(res.dp_peak_bytes) / (1024.0 * 1024.0), res.components,
-                      res.holes, rings, mesh.faces.size(), thickness);
+                      res.holes, rings, mesh.faces.size(), thick.c_str());
         common.say(line);
+        if (on_surface) {
+            std::snprintf(line, sizeof line, "surface: %zu edge crossings in the curve; solid: %zu components, genus %lld", crossings, solid.components,
+                          solid.genus);
+            common.say(line);
+        }
         common.summary({{"shape", what},
+                        {"edge_crossings", crossings},
+                        {"solid_components", solid.components},
+                        {"solid_genus", solid.genus},
                         {"components", res.components},
                         {"holes", res.holes},
                         {"input_pieces", res.input_pieces},

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Topology-constrained vector patterns (Zhou et al. 2014): three bundled exemplars along an open
 # curve (data/curves/wave.svg), a straight line, a circle and a closed curve (data/curves/blob.svg),
-# a rectangle (§6.2), one piece each (--components 1), two bands of separate motifs and a twisted band
-# along a helix; each run writes
+# a rectangle (§6.2), one piece each (--components 1), two bands of separate motifs, a twisted band
+# along a helix and two bands on the bundled vase (embossed and carved, §6.3); each run writes
 # NAME.svg (filled shapes), NAME.stl (1 mm thick, watertight) and NAME.png (preview) to $OUT_DIR.
 set -euo pipefail
 : "${BIN:?BIN must point at the built examples}" "${DATA:?DATA must point at data/}" "${OUT_DIR:?OUT_DIR must be set}"
@@ -28,3 +28,10 @@ run leaves_wave      --exemplar "$vec/leaves.svg"       --curve "$DATA/curves/wa
 # turn about the curve over its length (--twist 180); the PNG is a shaded render from two sides.
 awk 'BEGIN { for (i = 0; i <= 300; ++i) { a = 3 * 3.14159265358979 * i / 300; printf "%.6f,%.6f,%.6f\n", 30 * cos(a), 30 * sin(a), 40 * i / 300 } }' > "$OUT_DIR/helix.csv"
 run greek_key_helix  --exemplar "$vec/greek_key.svg"    --curve3d "$OUT_DIR/helix.csv" --twist 180 --height 8 --components 1
+# Bands on a surface (§6.3, Fig. 23): a wavy loop around the bundled vase (data/meshes/vase.obj,
+# profile r(z) = 20 + 9 sin(pi z / 70) mm) through 8 points; a Greek key in one piece winding around
+# the vase, embossed 1.2 mm above a 2 mm shell, and leaves without holes carved out of a 2.5 mm shell
+# (one piece with 7 windows). The STL is the whole decorated vase; the PNG a shaded render.
+awk 'BEGIN { pi = 3.14159265358979; for (i = 0; i < 8; ++i) { a = 2 * pi * i / 8; z = 45 + 6 * sin(2 * a); r = 20 + 9 * sin(pi * z / 70); printf "%.6f,%.6f,%.6f\n", r * cos(a), r * sin(a), z } }' > "$OUT_DIR/vase_band.csv"
+run greek_key_vase   --exemplar "$vec/greek_key.svg"    --mesh "$DATA/meshes/vase.obj" --points "$OUT_DIR/vase_band.csv" --closed --height 12 --components 1 --closed-loop --emboss 1.2 --cell 0.4
+run leaves_vase      --exemplar "$vec/leaves.svg"       --mesh "$DATA/meshes/vase.obj" --points "$OUT_DIR/vase_band.csv" --closed --height 14 --holes 0 --carve 2.5 --cell 0.4

@@ -5,7 +5,9 @@
 /// topology-driven slicing positions (vector_pattern/reeb_slicing.hpp), the transition cost between
 /// pieces (vector_pattern/portal_cost.hpp), synthesis along a band (vector_pattern/synthesis.hpp, with
 /// vector_pattern/offsets.hpp, vector_pattern/stitching.hpp, vector_pattern/contours.hpp), the map of
-/// band coordinates onto a curve (vector_pattern/band_map.hpp) and the PNG preview of a result
+/// band coordinates onto a curve (vector_pattern/band_map.hpp), curves in space and on surfaces with
+/// the decoration of a surface by a band (geometry/space_curve.hpp, geometry/disk_parameterization.hpp,
+/// geometry/surface_curve.hpp, geometry/surface_decoration.hpp; §6.3) and the PNG preview of a result
 /// (geometry/coverage_image.hpp).
 #include "fabsynth/vector_pattern/exemplar.hpp"
 #include "fabsynth/vector_pattern/pieces.hpp"
@@ -17,3 +19,7 @@
 #include "fabsynth/vector_pattern/synthesis.hpp"
 #include "fabsynth/vector_pattern/band_map.hpp"
 #include "fabsynth/geometry/coverage_image.hpp"
+#include "fabsynth/geometry/disk_parameterization.hpp"
+#include "fabsynth/geometry/space_curve.hpp"
+#include "fabsynth/geometry/surface_curve.hpp"
+#include "fabsynth/geometry/surface_decoration.hpp"

@@ -186,6 +186,49 @@ TEST_CASE("curve_patterns along a curve in space (--curve3d, --twist)", "[cli][c
     }
 }
 
+TEST_CASE("curve_patterns on a surface (--mesh, --points, --emboss, --carve)", "[cli][curve_patterns]") {
+    const std::string vec = (data_dir / "vector").string();
+    const std::string vase = (data_dir / "meshes" / "vase.obj").string(), sphere = (data_dir / "meshes" / "icosphere.obj").string();
+    const std::string out = (work_dir / "cps_out.svg").string();
+    fs::remove(out);
+    std::string loop;  // 8 points around the vase's belly, on its profile r(z) = 20 + 9 sin(pi z / 70)
+    for (int i = 0; i < 8; ++i) {
+        const double a = 2 * 3.141592653589793 * i / 8, z = 45 + 6 * std::sin(2 * a), r = 20 + 9 * std::sin(3.141592653589793 * z / 70);
+        loop += std::to_string(r * std::cos(a)) + "," + std::to_string(r * std::sin(a)) + "," + std::to_string(z) + "\n";
+    }
+    const std::string loop_csv = write_file("vase_loop.csv", loop), far_csv = write_file("vase_far.csv", "0,0,45\n30,0,45\n0,30,45\n");
+    const std::vector<std::string> base{"--exemplar", vec + "/disks.svg", "--height", "12", "-o", out};
+    const auto with = [&](std::vector<std::string> extra) {
+        extra.insert(extra.end(), base.begin(), base.end());
+        return extra;
+    };
+    for (const cli_case& c : std::vector<cli_case>{
+             {"neither emboss nor carve", with({"--mesh", vase, "--points", loop_csv, "--closed"}), 2, "--emboss"},
+             {"points without a mesh", with({"--points", loop_csv, "--carve", "2"}), 2, "mesh"},
+             {"emboss and carve", with({"--mesh", vase, "--points", loop_csv, "--emboss", "1", "--carve", "2"}), 2, "carve"},
+             {"a closed mesh", with({"--mesh", sphere, "--points", loop_csv, "--carve", "2"}), 2, "disk"},
+             {"a point off the mesh", with({"--mesh", vase, "--points", far_csv, "--closed", "--carve", "2"}), 2, "from the mesh"},
+             {"a negative relief", with({"--mesh", vase, "--points", loop_csv, "--closed", "--emboss", "-1"}), 2, "--emboss"},
+         })
+        check_case("curve_patterns", c);
+    CHECK_FALSE(fs::exists(out));
+    for (const char* mode : {"--emboss", "--carve"}) {
+        INFO(mode);
+        const result ok = run("curve_patterns", with({"--mesh", vase, "--points", loop_csv, "--closed", mode, "1.5", "--cell", "0.6", "--json"}));
+        INFO(ok.err);
+        REQUIRE(ok.code == 0);
+        const json j = json::parse(ok.out);
+        const fabsynth::triangle_mesh m = fabsynth::io::read_mesh((work_dir / "cps_out.stl").string());
+        const auto info = fabsynth::analyze_topology(m);
+        CHECK(info.is_watertight());
+        CHECK(j.at("solid_components").get<std::size_t>() == info.components);
+        CHECK(info.components == 1);  // separate disks: a relief on the shell, or windows in it
+        CHECK(info.genus == (std::string(mode) == "--carve" ? j.at("components").get<long long>() : 0));
+        CHECK(j.at("edge_crossings").get<std::size_t>() > 100);
+        CHECK(fs::exists(work_dir / "cps_out.png"));
+    }
+}
+
 namespace {
 // Pixel size (mm) from a PNG's pHYs chunk, read from the bytes (no PNG library): pixels per metre
 // in x, as the chunk stores it; 0 if the file has no pHYs chunk in metres.
