@@ -2,7 +2,8 @@
 # Topology-constrained vector patterns (Zhou et al. 2014): three bundled exemplars along an open
 # curve (data/curves/wave.svg), a straight line, a circle and a closed curve (data/curves/blob.svg),
 # a rectangle (§6.2), one piece each (--components 1), two bands of separate motifs, a twisted band
-# along a helix and two bands on the bundled vase (embossed and carved, §6.3); each run writes
+# along a helix, two bands on the bundled vase (embossed and carved, §6.3) and one carved out of an
+# egg-shaped stand; each run writes
 # NAME.svg (filled shapes), NAME.stl (1 mm thick, watertight) and NAME.png (preview) to $OUT_DIR.
 set -euo pipefail
 : "${BIN:?BIN must point at the built examples}" "${DATA:?DATA must point at data/}" "${OUT_DIR:?OUT_DIR must be set}"
@@ -35,3 +36,7 @@ run greek_key_helix  --exemplar "$vec/greek_key.svg"    --curve3d "$OUT_DIR/heli
 awk 'BEGIN { pi = 3.14159265358979; for (i = 0; i < 8; ++i) { a = 2 * pi * i / 8; z = 45 + 6 * sin(2 * a); r = 20 + 9 * sin(pi * z / 70); printf "%.6f,%.6f,%.6f\n", r * cos(a), r * sin(a), z } }' > "$OUT_DIR/vase_band.csv"
 run greek_key_vase   --exemplar "$vec/greek_key.svg"    --mesh "$DATA/meshes/vase.obj" --points "$OUT_DIR/vase_band.csv" --closed --height 12 --components 1 --closed-loop --emboss 1.2 --cell 0.4
 run leaves_vase      --exemplar "$vec/leaves.svg"       --mesh "$DATA/meshes/vase.obj" --points "$OUT_DIR/vase_band.csv" --closed --height 14 --holes 0 --carve 2.5 --cell 0.4
+# The egg stand of Fig. 23 (data/meshes/egg_stand.obj): separate disks carved out of a 2 mm shell
+# along a wavy loop through 8 points of its profile; one piece with 5 round windows.
+awk 'BEGIN { pi = 3.14159265358979; for (i = 0; i < 8; ++i) { a = 2 * pi * i / 8; t = 1.35 + 0.12 * sin(2 * a); r = 21 * sin(t) * (1 + 0.08 * cos(t)); z = 28 * (1 - cos(t)); printf "%.6f,%.6f,%.6f\n", r * cos(a), r * sin(a), z } }' > "$OUT_DIR/egg_band.csv"
+run disks_egg_stand  --exemplar "$vec/disks.svg"        --mesh "$DATA/meshes/egg_stand.obj" --points "$OUT_DIR/egg_band.csv" --closed --height 12 --carve 2 --cell 0.35
