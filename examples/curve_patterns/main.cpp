@@ -16,7 +16,8 @@
 // when --closed); the band lies along the frame's normal and the STL's thickness along its
 // binormal; OUT.svg is then the developed band (u along the curve, v across) and OUT.png a shaded
 // render of the solid from two opposite sides.
-// --mesh/--points: a curve drawn on a disk-topology surface (§6.3): the points (x,y,z rows, mm,
+// --mesh/--points: a curve drawn on a disk-topology surface, or a closed genus-0 one which is cut open
+// at the vertex farthest from the points (§6.3): the points (x,y,z rows, mm,
 // snapped to the mesh) are joined by a spline in the mesh's harmonic parameterization
 // (geometry/disk_parameterization.hpp, geometry/surface_curve.hpp), with smoothed surface normals;
 // the pattern is then embossed H mm above a shell of --shell mm around the surface, or carved out of
@@ -97,10 +98,11 @@ int main(int argc, char** argv) {
                          ->needs(o_mesh);
     o_mesh->needs(o_points)->excludes(o_curve, o_line, o_circle, o_rect, o_curve3d);
     auto* o_emboss = app.add_option("--emboss", emboss, "--mesh: relief height above the shell (mm)")->needs(o_mesh);
-    auto* o_carve = app.add_option("--carve", carve, "--mesh: cut the pattern out of a shell this thick (mm)")->needs(o_mesh)->excludes(o_emboss);
+    app.add_option("--carve", carve, "--mesh: cut the pattern out of a shell this thick (mm)")->needs(o_mesh)->excludes(o_emboss);
     app.add_option("--shell", shell, "--emboss: thickness of the shell around the surface (mm, default 2)")->needs(o_emboss);
     app.add_option("--cell", cell, "--mesh: grid spacing of the solid (mm; default a quarter of the relief or shell, at most --height/40)")->needs(o_mesh);
-    (void)o_carve;
+    double max_gib = 16.0;
+    tool::add_memory_limit(app, max_gib);
     o_curve->excludes(o_line, o_circle, o_rect);
     o_line->excludes(o_circle, o_rect);
     o_circle->excludes(o_rect);
@@ -181,8 +183,22 @@ int main(int argc, char** argv) {
         if (on_surface) {
             progress(0.05, "parameterize the surface");
             const triangle_mesh surface = io::read_mesh(mesh_path);
-            const disk_parameterization phi(surface);
-            const surface_curve drawn_curve = trace_surface_curve(phi, io::read_points_csv(points_path), closed);
+            validate(surface, mesh_path.c_str());
+            const std::vector<vec3> picked = io::read_points_csv(points_path);
+            surface_decoration_options deco;
+            deco.mode = emboss ? decoration_mode::emboss : decoration_mode::carve;
+            deco.shell = emboss ? shell.value_or(2.0) : *carve;
+            deco.height = emboss.value_or(1.0);
+            deco.cell = cell.value_or(std::min(0.25 * (emboss ? std::min(deco.shell, deco.height) : deco.shell), height / 40.0));
+            // the level set's triangles: about 9 per cell^2 of each side of the shell, ~200 bytes each
+            // at the peak (measured: benchmarks/README.md, bands on surfaces)
+            tool::require_memory(200.0 * 9.0 * 2.0 * surface_area(surface) / (deco.cell * deco.cell), max_gib,
+                                 "decorating " + mesh_path + " at a " + std::to_string(deco.cell) + " mm cell");
+            // a closed genus-0 mesh is cut open at the vertex farthest from the points (disk_parameterization.hpp)
+            const mesh_topology_info surface_topology = analyze_topology(surface);
+            const bool cut = surface_topology.boundary_edges == 0 && surface_topology.components == 1 && surface_topology.genus == 0;
+            const disk_parameterization phi(cut ? cut_open(surface, farthest_vertex(surface, picked)) : surface);
+            const surface_curve drawn_curve = trace_surface_curve(phi, picked, closed);
             crossings = drawn_curve.edge_crossings;
             // the band at its own scale: points closer than H/8 merged (surface_curve.hpp's band_curve)
             const space_curve curve = drawn_curve.band_curve(height / 8.0);
@@ -194,14 +210,9 @@ int main(int argc, char** argv) {
             res = vector_pattern::synthesize_along(ex, so);
             drawn = res.polygons;  // the developed band
             progress(0.5, "decorate the surface");
-            surface_decoration_options deco;
-            deco.mode = emboss ? decoration_mode::emboss : decoration_mode::carve;
-            deco.shell = emboss ? shell.value_or(2.0) : *carve;
-            deco.height = emboss.value_or(1.0);
-            deco.cell = cell.value_or(std::min(0.25 * (emboss ? std::min(deco.shell, deco.height) : deco.shell), height / 40.0));
             mesh = decorate_surface(surface, curve, res.polygons, deco);
             what = std::string(emboss ? "embossed" : "carved") + (curve.closed() ? " closed" : " open") + " band of length " + std::to_string(curve.length()) +
-                   " on " + mesh_path;
+                   " on " + mesh_path + (cut ? " (closed: cut open for the map, far from the points)" : "");
         } else if (!curve3d_path.empty()) {
             const space_curve curve = space_curve::polyline(io::read_points_csv(curve3d_path), closed, {.twist_degrees = twist.value_or(0.0)});
             curve.check_band(0.5 * height);  // the exemplar itself (|v| <= H/2) must fit the band

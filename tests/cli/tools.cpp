@@ -2,6 +2,7 @@
 // files, impossible requests; --json parsed by a JSON parser; --version; no progress control
 // characters in a non-terminal stderr; nothing left at the output path after a refused run.
 // Tools run as child processes (stdout and stderr to files, stdin closed).
+#include <cstdio>
 #include <catch2/catch.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/io/image.hpp>
@@ -188,7 +189,7 @@ TEST_CASE("curve_patterns along a curve in space (--curve3d, --twist)", "[cli][c
 
 TEST_CASE("curve_patterns on a surface (--mesh, --points, --emboss, --carve)", "[cli][curve_patterns]") {
     const std::string vec = (data_dir / "vector").string();
-    const std::string vase = (data_dir / "meshes" / "vase.obj").string(), sphere = (data_dir / "meshes" / "icosphere.obj").string();
+    const std::string vase = (data_dir / "meshes" / "vase.obj").string(), holes = (data_dir / "meshes" / "three_holes.obj").string();
     const std::string out = (work_dir / "cps_out.svg").string();
     fs::remove(out);
     std::string loop;  // 8 points around the vase's belly, on its profile r(z) = 20 + 9 sin(pi z / 70)
@@ -206,7 +207,8 @@ TEST_CASE("curve_patterns on a surface (--mesh, --points, --emboss, --carve)", "
              {"neither emboss nor carve", with({"--mesh", vase, "--points", loop_csv, "--closed"}), 2, "--emboss"},
              {"points without a mesh", with({"--points", loop_csv, "--carve", "2"}), 2, "mesh"},
              {"emboss and carve", with({"--mesh", vase, "--points", loop_csv, "--emboss", "1", "--carve", "2"}), 2, "carve"},
-             {"a closed mesh", with({"--mesh", sphere, "--points", loop_csv, "--carve", "2"}), 2, "disk"},
+             {"a closed mesh of genus 3", with({"--mesh", holes, "--points", loop_csv, "--carve", "2"}), 2, "disk"},
+             {"memory above the limit", with({"--mesh", vase, "--points", loop_csv, "--closed", "--carve", "2", "--max-memory", "0.01"}), 2, "--max-memory"},
              {"a point off the mesh", with({"--mesh", vase, "--points", far_csv, "--closed", "--carve", "2"}), 2, "from the mesh"},
              {"a negative relief", with({"--mesh", vase, "--points", loop_csv, "--closed", "--emboss", "-1"}), 2, "--emboss"},
          })
@@ -227,6 +229,26 @@ TEST_CASE("curve_patterns on a surface (--mesh, --points, --emboss, --carve)", "
         CHECK(j.at("edge_crossings").get<std::size_t>() > 100);
         CHECK(fs::exists(work_dir / "cps_out.png"));
     }
+    // a closed mesh (the bundled unit icosphere scaled to 30 mm) is cut open away from the points
+    std::ifstream in(data_dir / "meshes" / "icosphere.obj");
+    std::string sphere_obj, line;
+    while (std::getline(in, line)) {
+        double x, y, z;
+        if (std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z) == 3) line = "v " + std::to_string(30 * x) + " " + std::to_string(30 * y) + " " + std::to_string(30 * z);
+        sphere_obj += line + "\n";
+    }
+    std::string equator;
+    for (int i = 0; i < 6; ++i) equator += std::to_string(30 * std::cos(i * 3.141592653589793 / 3)) + "," + std::to_string(30 * std::sin(i * 3.141592653589793 / 3)) + ",0\n";
+    const std::string sphere_path = write_file("sphere30.obj", sphere_obj), equator_csv = write_file("equator.csv", equator);
+    const result ok = run("curve_patterns", with({"--mesh", sphere_path, "--points", equator_csv, "--closed", "--carve", "2", "--cell", "0.6", "--json"}));
+    INFO(ok.err);
+    REQUIRE(ok.code == 0);
+    const json j = json::parse(ok.out);
+    const auto info = fabsynth::analyze_topology(fabsynth::io::read_mesh((work_dir / "cps_out.stl").string()));
+    CHECK(info.is_watertight());
+    CHECK(info.components == 1);  // a hollow ball with a window per disk
+    CHECK(info.genus == j.at("components").get<long long>() - 1);
+    CHECK(j.at("shape").get<std::string>().find("cut open") != std::string::npos);
 }
 
 namespace {

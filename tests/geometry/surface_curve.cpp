@@ -143,6 +143,18 @@ TEST_CASE("disk parameterization: meshes that are not disks are refused", "[geom
     for (auto t : other.faces) two.faces.push_back({t[0] + off, t[1] + off, t[2] + off});
     CHECK_THROWS_AS(disk_parameterization(two), invalid_input);
     CHECK_THROWS_AS(disk_parameterization(triangle_mesh{}), invalid_input);
+    // a closed sphere cut open at a vertex: a disk whose border is the vertex's link
+    const triangle_mesh sphere = fabsynth::test::sphere_mesh(10, 3);
+    const triangle_mesh opened = cut_open(sphere, 7);
+    const mesh_topology_info info = analyze_topology(opened);
+    CHECK(info.boundary_loops == 1);
+    CHECK(info.euler == 1);
+    CHECK(opened.vertices.size() == sphere.vertices.size() - 1);
+    const disk_parameterization phi(opened);
+    std::size_t valence = 0;
+    for (const auto& t : sphere.faces) valence += t[0] == 7 || t[1] == 7 || t[2] == 7;
+    CHECK(phi.boundary().size() == valence);
+    CHECK_THROWS_AS(cut_open(sphere, static_cast<std::uint32_t>(sphere.vertices.size())), invalid_input);
 }
 
 TEST_CASE("surface curve: on a plane mesh the curve is the planar spline with every edge crossing", "[geometry][surface_curve]") {

@@ -10,10 +10,13 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/geometry/disk_parameterization.hpp"
 #include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/space_curve.hpp"
+#include "fabsynth/geometry/surface_curve.hpp"
 #include "fabsynth/geometry/surface_decoration.hpp"
+#include "fabsynth/io/mesh.hpp"
 #include "support/raster_topology.hpp"
 
 using namespace fabsynth;
@@ -155,6 +158,36 @@ TEST_CASE("surface decoration: band coordinates are continuous around the bends 
         }
     }
     CHECK(worst < 0.01);  // steps are 0.6 um along y, ~2 um in space
+}
+
+TEST_CASE("surface decoration: a closed sphere, cut open away from the band", "[geometry][decoration]") {
+    triangle_mesh sphere = io::read_mesh(std::string(FABSYNTH_DATA_DIR) + "/meshes/icosphere.obj");
+    for (vec3& p : sphere.vertices) p *= 30.0;  // a 30 mm sphere
+    std::vector<vec3> loop;  // 6 points around the equator, tilted
+    for (int i = 0; i < 6; ++i) {
+        const double a = 2 * std::numbers::pi * i / 6, z = 5 * std::sin(a);
+        loop.push_back(glm::normalize(vec3(std::cos(a), std::sin(a), z / 30)) * 30.0);
+    }
+    const std::uint32_t cut = farthest_vertex(sphere, loop);
+    CHECK(std::abs(sphere.vertices[cut].z) > 29.0);  // a pole
+    const disk_parameterization phi(cut_open(sphere, cut));
+    const surface_curve s = trace_surface_curve(phi, loop, true);
+    const mesh_distance md(sphere);
+    for (const vec3& p : s.points) REQUIRE(std::sqrt(md.closest(p).dist2) < 1e-9 * 60);
+    const space_curve band = s.band_curve(1.0);
+    // three bars across the band
+    const double L = band.length();
+    const std::vector<polygon_with_holes> bars{rect(0.1 * L, 0.1 * L + 8, -4, 4), rect(0.4 * L, 0.4 * L + 8, -4, 4), rect(0.7 * L, 0.7 * L + 8, -4, 4)};
+    const triangle_mesh e = decorate_surface(sphere, band, bars, {.mode = decoration_mode::emboss, .shell = 2.0, .height = 1.0, .cell = 0.4});
+    const mesh_topology_info ei = analyze_topology(e);
+    REQUIRE(ei.is_watertight());
+    CHECK(ei.components == 1);  // the cavity inside the shell is filled: a solid ball with reliefs
+    CHECK(ei.genus == 0);
+    const triangle_mesh c = decorate_surface(sphere, band, bars, {.mode = decoration_mode::carve, .shell = 2.0, .cell = 0.4});
+    const mesh_topology_info ci = analyze_topology(c);
+    REQUIRE(ci.is_watertight());
+    CHECK(ci.components == 1);  // a hollow shell with three windows (its inside reaches the outside)
+    CHECK(ci.genus == 2);       // a sphere's shell with three holes: genus 3 - 1
 }
 
 TEST_CASE("surface decoration: bad input is refused", "[geometry][decoration]") {

@@ -28,6 +28,12 @@
 ///   auto loc = phi.locate({0.2, -0.1});                              // std::nullopt outside the domain
 ///   vec3 p = phi.surface_point(loc->face, loc->bary);
 ///
+/// Closed surfaces. A closed genus-0 mesh is not a disk; cut_open(mesh, v) removes the faces
+/// around vertex v (and v itself), which leaves a disk whose border is v's link. The harmonic map
+/// then squeezes the region far from the cut toward the domain's centre (a conformal map of a
+/// sphere less a small cap scales its far side by about cap size / radius), which double precision
+/// carries for any mesh size here; cut far from where curves are drawn (farthest_vertex()).
+///
 /// Errors: invalid_input naming the problem for an invalid mesh, one that is not a single
 /// edge-manifold, consistently oriented disk (one component, one boundary loop, Euler
 /// characteristic 1) or has a degenerate face; solver_error if the solve fails or a face folds.
@@ -38,6 +44,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -53,6 +60,53 @@
 #include "fabsynth/geometry/polygon.hpp"
 
 namespace fabsynth {
+
+/// The mesh less the faces around vertex v and v itself (vertices renumbered in order): a closed
+/// genus-0 mesh becomes a disk (see the file comment). Throws invalid_input for an invalid mesh or
+/// a vertex out of range or used by no face.
+[[nodiscard]] inline triangle_mesh cut_open(const triangle_mesh& m, std::uint32_t v) {
+    validate(m, "cut_open input mesh");
+    if (v >= m.vertices.size()) throw invalid_input("cut_open: vertex " + std::to_string(v) + " out of range");
+    triangle_mesh out;
+    std::vector<std::uint32_t> index(m.vertices.size(), UINT32_MAX);
+    bool used = false;
+    for (const auto& t : m.faces) {
+        if (t[0] == v || t[1] == v || t[2] == v) {
+            used = true;
+            continue;
+        }
+        std::array<std::uint32_t, 3> f{};
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t w = t[static_cast<std::size_t>(k)];
+            if (index[w] == UINT32_MAX) index[w] = 0;  // mark; numbered below in vertex order
+            f[static_cast<std::size_t>(k)] = w;
+        }
+        out.faces.push_back(f);
+    }
+    if (!used) throw invalid_input("cut_open: no face uses vertex " + std::to_string(v));
+    for (std::size_t w = 0; w < m.vertices.size(); ++w)
+        if (index[w] != UINT32_MAX) {
+            index[w] = static_cast<std::uint32_t>(out.vertices.size());
+            out.vertices.push_back(m.vertices[w]);
+        }
+    for (auto& f : out.faces)
+        for (auto& w : f) w = index[w];
+    return out;
+}
+
+/// The vertex of m farthest from its nearest point of `points` (the first such vertex on ties):
+/// where to cut a closed mesh open so that the cut stays away from a curve through the points.
+[[nodiscard]] inline std::uint32_t farthest_vertex(const triangle_mesh& m, std::span<const vec3> points) {
+    if (points.empty() || m.vertices.empty()) throw invalid_input("farthest_vertex: no points or no vertices");
+    std::uint32_t best = 0;
+    double best_d = -1.0;
+    for (std::uint32_t w = 0; w < m.vertices.size(); ++w) {
+        double d = std::numeric_limits<double>::infinity();
+        for (const vec3& p : points) d = std::min(d, glm::length(m.vertices[w] - p));
+        if (d > best_d) best_d = d, best = w;
+    }
+    return best;
+}
 
 /// The convex border the boundary loop is mapped onto.
 enum class parameterization_border {
