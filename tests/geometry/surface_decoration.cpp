@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/parallel.hpp"
 #include "fabsynth/geometry/disk_parameterization.hpp"
 #include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
@@ -188,6 +189,19 @@ TEST_CASE("surface decoration: a closed sphere, cut open away from the band", "[
     REQUIRE(ci.is_watertight());
     CHECK(ci.components == 1);  // a hollow shell with three windows (its inside reaches the outside)
     CHECK(ci.genus == 2);       // a sphere's shell with three holes: genus 3 - 1
+}
+
+TEST_CASE("surface decoration: the same bits for 1 and 2 threads", "[geometry][decoration]") {
+    const triangle_mesh base = plate();
+    const space_curve band = space_curve::polyline({{5, 20, 0}, {55, 20, 0}}, false);
+    const std::vector<polygon_with_holes> shapes{{circle({15, 0}, 7, true), {circle({15, 0}, 3.5, false)}}};
+    set_num_threads(1);
+    const triangle_mesh one = decorate_surface(base, band, shapes, {.mode = decoration_mode::emboss, .cell = 0.4});
+    set_num_threads(2);
+    const triangle_mesh two = decorate_surface(base, band, shapes, {.mode = decoration_mode::emboss, .cell = 0.4});
+    set_num_threads(0);
+    CHECK(one.vertices == two.vertices);
+    CHECK(one.faces == two.faces);
 }
 
 TEST_CASE("surface decoration: bad input is refused", "[geometry][decoration]") {
