@@ -180,6 +180,16 @@ int main(int argc, char** argv) {
         std::string what;
         const bool in_space = !curve3d_path.empty() || on_surface;
         std::size_t crossings = 0;
+        // synthesis along a curve in space (--curve3d, --mesh): the band must fit, then the developed band
+        const auto synthesize_along_space_curve = [&](const space_curve& curve, const char* option) {
+            curve.check_band(0.5 * height);  // the exemplar itself (|v| <= H/2) must fit the band
+            so.length = curve.length();
+            require_band_length(so.length, (std::string(option) + " length").c_str());
+            so.closed = curve.closed();
+            if (so.closed_loop && !so.closed) throw invalid_input(std::string("--closed-loop needs a closed curve (") + option + " with --closed)");
+            res = vector_pattern::synthesize_along(ex, so);
+            drawn = res.polygons;  // the developed band
+        };
         if (on_surface) {
             progress(0.05, "parameterize the surface");
             const triangle_mesh surface = io::read_mesh(mesh_path);
@@ -202,26 +212,14 @@ int main(int argc, char** argv) {
             crossings = drawn_curve.edge_crossings;
             // the band at its own scale: points closer than H/8 merged (surface_curve.hpp's band_curve)
             const space_curve curve = drawn_curve.band_curve(height / 8.0);
-            curve.check_band(0.5 * height);
-            so.length = curve.length();
-            require_band_length(so.length, "--points curve length");
-            so.closed = curve.closed();
-            if (so.closed_loop && !so.closed) throw invalid_input("--closed-loop needs a closed curve (--mesh with --closed)");
-            res = vector_pattern::synthesize_along(ex, so);
-            drawn = res.polygons;  // the developed band
+            synthesize_along_space_curve(curve, "--mesh");
             progress(0.5, "decorate the surface");
             mesh = decorate_surface(surface, curve, res.polygons, deco);
             what = std::string(emboss ? "embossed" : "carved") + (curve.closed() ? " closed" : " open") + " band of length " + std::to_string(curve.length()) +
                    " on " + mesh_path + (cut ? " (closed: cut open for the map, far from the points)" : "");
         } else if (!curve3d_path.empty()) {
             const space_curve curve = space_curve::polyline(io::read_points_csv(curve3d_path), closed, {.twist_degrees = twist.value_or(0.0)});
-            curve.check_band(0.5 * height);  // the exemplar itself (|v| <= H/2) must fit the band
-            so.length = curve.length();
-            require_band_length(so.length, "--curve3d length");
-            so.closed = curve.closed();
-            if (so.closed_loop && !so.closed) throw invalid_input("--closed-loop needs a closed curve (--curve3d with --closed)");
-            res = vector_pattern::synthesize_along(ex, so);
-            drawn = res.polygons;  // the developed band
+            synthesize_along_space_curve(curve, "--curve3d");
             mesh = extrude_along_space_curve(res.polygons, curve, {.thickness = thickness, .chord_tolerance = tolerance});
             what = std::string(curve.closed() ? "closed" : "open") + " curve in space of length " + std::to_string(curve.length());
         } else if (!rect.empty()) {

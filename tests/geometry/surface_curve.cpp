@@ -25,23 +25,7 @@ using namespace fabsynth;
 namespace geometry_surface_curve_test {
 
 // A flat n x n grid of cell h in z = 0 with its interior vertices jittered (the border straight).
-triangle_mesh flat_disk(int n, double h, std::uint64_t seed, double jitter = 0.2) {
-    triangle_mesh m;
-    counter_rng rng(seed);
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) {
-            const bool inner = i > 0 && j > 0 && i < n && j < n;
-            const double jx = inner ? rng.uniform(-jitter, jitter) * h : 0.0, jy = inner ? rng.uniform(-jitter, jitter) * h : 0.0;
-            m.vertices.emplace_back(i * h + jx, j * h + jy, 0.0);
-        }
-    auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            m.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-            m.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-        }
-    return m;
-}
+triangle_mesh flat_disk(int n, double h, std::uint64_t seed, double jitter = 0.2) { return fabsynth::test::plane_grid(n, h, seed, jitter, false); }
 
 triangle_mesh vase() { return io::read_mesh(std::string(FABSYNTH_DATA_DIR) + "/meshes/vase.obj"); }
 

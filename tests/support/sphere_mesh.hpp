@@ -44,13 +44,19 @@ inline triangle_mesh sphere_mesh(double r, int n) {
 }
 
 /// An (n+1) x (n+1) grid of spacing h in the plane z = 0, vertices jittered in x and y by up to
-/// jitter * h (0: a regular grid), each quad split into two counter-clockwise triangles (normal
-/// +z), vertex (i, j) at index j (n + 1) + i.
-inline triangle_mesh plane_grid(int n, double h, std::uint64_t seed, double jitter = 0.2) {
+/// jitter * h (0: a regular grid; jitter_border false: the border vertices stay on the square),
+/// each quad split into two counter-clockwise triangles (normal +z), vertex (i, j) at index
+/// j (n + 1) + i.
+inline triangle_mesh plane_grid(int n, double h, std::uint64_t seed, double jitter = 0.2, bool jitter_border = true) {
     triangle_mesh m;
     counter_rng rng(seed);
     for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) m.vertices.emplace_back(i * h + rng.uniform(-jitter, jitter) * h, j * h + rng.uniform(-jitter, jitter) * h, 0.0);
+        for (int i = 0; i <= n; ++i) {
+            const double jy = rng.uniform(-jitter, jitter) * h;  // y first: the draws of the former argument order (GCC)
+            const double jx = rng.uniform(-jitter, jitter) * h;
+            const bool move = jitter_border || (i > 0 && j > 0 && i < n && j < n);
+            m.vertices.emplace_back(i * h + (move ? jx : 0.0), j * h + (move ? jy : 0.0), 0.0);
+        }
     auto id = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
