@@ -179,8 +179,7 @@ struct catmull_rom_span {
         }
     }
     if (!closed) out.push_back(spans.back().at(1.0));
-    for (const vec2& x : out) (void)located(phi, x);
-    return out;
+    return out;  // a sample outside the domain stops the walk at the border (walk_faces)
 }
 
 // Phase 4: the domain polyline walked through the faces, with every edge crossing inserted.

@@ -121,19 +121,19 @@ public:
             for (int i = i0; i < i1; ++i) in[static_cast<std::size_t>(j) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(i)] = 1;
         });
         const std::size_t n = static_cast<std::size_t>(nu_) * static_cast<std::size_t>(nv_);
-        std::vector<bool> inside(n), outside(n);
+        std::vector<bool> feature(n);
         for (int j = 0; j < nv_; ++j)
             for (int i = 0; i < nu_; ++i) {
                 const int src = closed ? ((i - margin_) % width_ + width_) % width_ : i;
-                const bool v = in[static_cast<std::size_t>(j) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(src)] != 0;
-                inside[index(i, j)] = v;
-                outside[index(i, j)] = !v;
+                feature[index(i, j)] = in[static_cast<std::size_t>(j) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(src)] != 0;
             }
         const std::array<std::size_t, 3> dims{static_cast<std::size_t>(nu_), static_cast<std::size_t>(nv_), 1};
-        const std::vector<double> to_in = squared_distance_transform(dims, inside), to_out = squared_distance_transform(dims, outside);
+        const std::vector<double> to_in = squared_distance_transform(dims, feature);  // 0 exactly on inside pixels
+        feature.flip();
+        const std::vector<double> to_out = squared_distance_transform(dims, feature);
         sd_.resize(n);
         for (std::size_t k = 0; k < n; ++k)  // pixel centres; the boundary is half a pixel from the last inside centre
-            sd_[k] = static_cast<float>(px_ * (inside[k] ? 0.5 - std::sqrt(to_out[k]) : std::sqrt(to_in[k]) - 0.5));
+            sd_[k] = static_cast<float>(px_ * (to_in[k] == 0.0 ? 0.5 - std::sqrt(to_out[k]) : std::sqrt(to_in[k]) - 0.5));
     }
 
     /// s(u, v), mm; far outside the raster: +inf.
