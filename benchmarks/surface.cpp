@@ -1,8 +1,8 @@
-// Surface blocks of the 3D filigree pipeline. Local parameterizations (geometry/exponential_map.hpp)
+// Surface blocks of the 3D filigree pipeline. Local parameterizations (surface/exponential_map.hpp)
 // on the full-resolution bunny scaled to a 100 mm bounding box: the per-mesh set-up (adjacency,
 // normals, incidence) and one discrete exponential map of a patch of radius 10 or 20 mm
 // (filigree-synthesis.md §8.1 computes matching, overlap and deformation on such patches; Table 3
-// finds them the dominant 3D cost). The printable solid of §6.2 (geometry/surface_offset.hpp): an
+// finds them the dominant 3D cost). The printable solid of §6.2 (surface/offset.hpp): an
 // open cylinder band (a vase wall, r 30 mm, 60 mm high, 0.5 mm edges) thickened to 1.2 mm.
 // Filigree synthesis on surfaces (filigree-synthesis.md Table 3): the bundled vase (scripts/make_vase.py,
 // 6.0 k vertices) and the bunny (36 k vertices, 100 mm), c_scroll elements of 14 / 16 mm, 0.8 mm strips:
@@ -12,10 +12,10 @@
 #include <benchmark/benchmark.h>
 
 #include <fabsynth/core/rng.hpp>
-#include <fabsynth/filigree/surface_structure.hpp>
+#include <fabsynth/filigree/surface/structure.hpp>
 #include <fabsynth/io/svg.hpp>
-#include <fabsynth/geometry/exponential_map.hpp>
-#include <fabsynth/geometry/surface_offset.hpp>
+#include <fabsynth/surface/exponential_map.hpp>
+#include <fabsynth/surface/offset.hpp>
 #include <fabsynth/io/mesh.hpp>
 
 #include <chrono>

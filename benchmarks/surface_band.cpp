@@ -4,9 +4,9 @@
 // 0.5, 0.4 and 0.25 mm.
 #include <benchmark/benchmark.h>
 
-#include <fabsynth/geometry/disk_parameterization.hpp>
-#include <fabsynth/geometry/surface_curve.hpp>
-#include <fabsynth/geometry/surface_decoration.hpp>
+#include <fabsynth/surface/disk_parameterization.hpp>
+#include <fabsynth/surface/curve.hpp>
+#include <fabsynth/surface/decoration.hpp>
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/svg.hpp>
 #include <fabsynth/vector_pattern/exemplar.hpp>

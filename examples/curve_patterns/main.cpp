@@ -19,36 +19,29 @@
 // --mesh/--points: a curve drawn on a disk-topology surface, or a closed genus-0 one which is cut open
 // at the vertex farthest from the points (§6.3): the points (x,y,z rows, mm,
 // snapped to the mesh) are joined by a spline in the mesh's harmonic parameterization
-// (geometry/disk_parameterization.hpp, geometry/surface_curve.hpp), with smoothed surface normals;
+// (surface/disk_parameterization.hpp, surface/curve.hpp), with smoothed surface normals;
 // the pattern is then embossed H mm above a shell of --shell mm around the surface, or carved out of
-// a shell of T mm (geometry/surface_decoration.hpp), and OUT.stl is that one watertight solid;
+// a shell of T mm (surface/decoration.hpp), and OUT.stl is that one watertight solid;
 // OUT.svg is the developed band and OUT.png a shaded render from two sides.
 // Outputs: OUT.svg (filled shapes only), OUT.stl and OUT.3mf (where lib3mf is available; T mm thick, the SVG's y axis flipped so the print
 // looks like the drawing), OUT.png (preview, pattern dark on white: geometry/coverage_image.hpp). Nothing is written unless
 // everything succeeded; an impossible request exits with status 3 and the reason on stderr.
 // Conventions (exit codes, --quiet, --json, --version): docs/tools.md.
+// The pipeline is one library call, vector_pattern::make_pattern (vector_pattern/pipeline.hpp); this
+// tool parses the arguments, reads the inputs, writes the outputs and prints the report.
 
 #include <fabsynth/geometry/curve.hpp>
-#include <fabsynth/geometry/disk_parameterization.hpp>
-#include <fabsynth/geometry/surface_curve.hpp>
-#include <fabsynth/geometry/surface_decoration.hpp>
-#include <fabsynth/geometry/extrude.hpp>
-#include <fabsynth/geometry/mesh_topology.hpp>
-#include <fabsynth/geometry/render.hpp>
 #include <fabsynth/geometry/space_curve.hpp>
-#include <fabsynth/io/points.hpp>
-#include <fabsynth/geometry/triangulate.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
+#include <fabsynth/io/points.hpp>
 #include <fabsynth/io/svg.hpp>
 #if defined(FABSYNTH_HAS_LIB3MF)
 #include <fabsynth/io/mesh_3mf.hpp>
 #endif
-#include <fabsynth/vector_pattern/band_map.hpp>
 #include <fabsynth/vector_pattern/exemplar.hpp>
-#include <fabsynth/geometry/coverage_image.hpp>
-#include <fabsynth/vector_pattern/synthesis.hpp>
+#include <fabsynth/vector_pattern/pipeline.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -57,6 +50,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -158,85 +152,53 @@ int main(int argc, char** argv) {
         const fs::path threemf_file = outputs.add(threemf_out);
 #endif
 
-        // Exemplar, scaled to the band height.
+        // The exemplar as read (make_pattern scales it to the band height).
         progress(0.0, "read exemplar");
         const vector_pattern::exemplar raw = vector_pattern::exemplar_from_svg(io::read_svg(exemplar_path));
         if (!(raw.height() > 0.0)) throw invalid_input(exemplar_path + ": the exemplar has no height");
-        const vector_pattern::exemplar ex = vector_pattern::scaled(raw, height / raw.height());
 
-        vector_pattern::synthesis_options so;
-        so.band_height = height;
-        so.components = components;
-        so.holes = holes;
-        so.closed_loop = closed_loop;
-        so.seed = seed;
-        so.beta = beta;
-        so.slicing = slicing == "uniform" ? vector_pattern::slicing_method::uniform : vector_pattern::slicing_method::reeb;
+        vector_pattern::pattern_options po;
+        po.band_height = height;
+        po.thickness = thickness;
+        po.chord_tolerance = tolerance;
+        po.synthesis.components = components;
+        po.synthesis.holes = holes;
+        po.synthesis.closed_loop = closed_loop;
+        po.synthesis.seed = seed;
+        po.synthesis.beta = beta;
+        po.synthesis.slicing = slicing == "uniform" ? vector_pattern::slicing_method::uniform : vector_pattern::slicing_method::reeb;
 
-        progress(0.1, "synthesis");
-        vector_pattern::synthesis_result res;
-        std::vector<polygon_with_holes> drawn;  // output shapes in the plane (SVG user units = mm)
-        triangle_mesh mesh;
+        // The inputs, read and checked against the options that name them; what the run is, for the report.
+        std::optional<vector_pattern::pattern_where> where;
         std::string what;
-        const bool in_space = !curve3d_path.empty() || on_surface;
-        std::size_t crossings = 0;
-        // synthesis along a curve in space (--curve3d, --mesh): the band must fit, then the developed band
-        const auto synthesize_along_space_curve = [&](const space_curve& curve, const char* option) {
-            curve.check_band(0.5 * height);  // the exemplar itself (|v| <= H/2) must fit the band
-            so.length = curve.length();
-            require_band_length(so.length, (std::string(option) + " length").c_str());
-            so.closed = curve.closed();
-            if (so.closed_loop && !so.closed) throw invalid_input(std::string("--closed-loop needs a closed curve (") + option + " with --closed)");
-            res = vector_pattern::synthesize_along(ex, so);
-            drawn = res.polygons;  // the developed band
+        const auto check_closed_loop = [&](bool closed_curve, const char* forms) {
+            if (closed_loop && !closed_curve) throw invalid_input(std::string("--closed-loop needs a closed curve (") + forms + ")");
         };
         if (on_surface) {
-            progress(0.05, "parameterize the surface");
-            const triangle_mesh surface = io::read_mesh(mesh_path);
+            triangle_mesh surface = io::read_mesh(mesh_path);
             validate(surface, mesh_path.c_str());
-            const std::vector<vec3> picked = io::read_points_csv(points_path);
-            surface_decoration_options deco;
-            deco.mode = emboss ? decoration_mode::emboss : decoration_mode::carve;
-            deco.shell = emboss ? shell.value_or(2.0) : *carve;
-            deco.height = emboss.value_or(1.0);
-            deco.cell = cell.value_or(std::min(0.25 * (emboss ? std::min(deco.shell, deco.height) : deco.shell), height / 40.0));
-            // the level set's triangles: about 9 per cell^2 of each side of the shell, ~200 bytes each
-            // at the peak (measured: benchmarks/README.md, bands on surfaces)
-            tool::require_memory(200.0 * 9.0 * 2.0 * surface_area(surface) / (deco.cell * deco.cell), max_gib,
-                                 "decorating " + mesh_path + " at a " + std::to_string(deco.cell) + " mm cell");
-            // a closed genus-0 mesh is cut open at the vertex farthest from the points (disk_parameterization.hpp)
-            const mesh_topology_info surface_topology = analyze_topology(surface);
-            const bool cut = surface_topology.boundary_edges == 0 && surface_topology.components == 1 && surface_topology.genus == 0;
-            const disk_parameterization phi(cut ? cut_open(surface, farthest_vertex(surface, picked)) : surface);
-            const surface_curve drawn_curve = trace_surface_curve(phi, picked, closed);
-            crossings = drawn_curve.edge_crossings;
-            // the band at its own scale: points closer than H/8 merged (surface_curve.hpp's band_curve)
-            const space_curve curve = drawn_curve.band_curve(height / 8.0);
-            synthesize_along_space_curve(curve, "--mesh");
-            progress(0.5, "decorate the surface");
-            mesh = decorate_surface(surface, curve, res.polygons, deco);
-            what = std::string(emboss ? "embossed" : "carved") + (curve.closed() ? " closed" : " open") + " band of length " + std::to_string(curve.length()) +
-                   " on " + mesh_path + (cut ? " (closed: cut open for the map, far from the points)" : "");
+            std::vector<vec3> picked = io::read_points_csv(points_path);
+            po.decoration.mode = emboss ? decoration_mode::emboss : decoration_mode::carve;
+            po.decoration.shell = emboss ? shell.value_or(2.0) : *carve;
+            po.decoration.height = emboss.value_or(1.0);
+            po.decoration.cell = cell.value_or(0.0);  // 0: make_pattern's default
+            po.decoration.cell = vector_pattern::decoration_cell(po);
+            tool::require_memory(vector_pattern::estimated_decoration_bytes(surface, po.decoration.cell), max_gib,
+                                 "decorating " + mesh_path + " at a " + std::to_string(po.decoration.cell) + " mm cell");
+            check_closed_loop(closed, "--mesh with --closed");
+            where = vector_pattern::on_surface{.surface = std::move(surface), .points = std::move(picked), .closed = closed};
         } else if (!curve3d_path.empty()) {
-            const space_curve curve = space_curve::polyline(io::read_points_csv(curve3d_path), closed, {.twist_degrees = twist.value_or(0.0)});
-            synthesize_along_space_curve(curve, "--curve3d");
-            mesh = extrude_along_space_curve(res.polygons, curve, {.thickness = thickness, .chord_tolerance = tolerance});
+            space_curve curve = space_curve::polyline(io::read_points_csv(curve3d_path), closed, {.twist_degrees = twist.value_or(0.0)});
+            require_band_length(curve.length(), "--curve3d length");
+            check_closed_loop(curve.closed(), "--curve3d with --closed");
             what = std::string(curve.closed() ? "closed" : "open") + " curve in space of length " + std::to_string(curve.length());
+            where = vector_pattern::along_space_curve{std::move(curve)};
         } else if (!rect.empty()) {
             require_positive(rect[0], "--rect width");
             require_positive(rect[1], "--rect height");
             if (closed_loop) throw invalid_input("--closed-loop needs a closed curve");
-            vector_pattern::rectangle_options ro;
-            ro.width = rect[0];
-            ro.height = rect[1];
-            ro.components = components;
-            ro.holes = holes;
-            ro.seed = seed;
-            ro.base = so;
-            res = vector_pattern::synthesize_rectangle(ex, ro);
-            drawn = res.polygons;
-            mesh = extrude(triangulate(drawn), thickness);
             what = "rectangle " + std::to_string(rect[0]) + " x " + std::to_string(rect[1]);
+            where = vector_pattern::in_rectangle{rect[0], rect[1]};
         } else {
             std::optional<planar_curve> curve;
             if (line_length) {
@@ -256,30 +218,20 @@ int main(int argc, char** argv) {
                 curve = curve_from_svg(doc, closed);
                 what = curve->closed() ? "closed curve" : "open curve";
             }
-            // Necessary before any synthesis: the exemplar itself (|v| <= H/2) must fit the band.
-            curve->check_band(0.5 * height);
-            so.length = curve->length();
-            if (!curve_path.empty()) require_band_length(so.length, "--curve length");
-            so.closed = curve->closed();
-            if (so.closed_loop && !so.closed) throw invalid_input("--closed-loop needs a closed curve (--circle, or --curve with --closed)");
-            res = vector_pattern::synthesize_along(ex, so);
-            drawn = vector_pattern::map_to_curve(res.polygons, *curve, {.chord_tolerance = tolerance});
-            mesh = extrude_along_curve(res.polygons, *curve, {.thickness = thickness, .chord_tolerance = tolerance});
+            if (!curve_path.empty()) require_band_length(curve->length(), "--curve length");
+            check_closed_loop(curve->closed(), "--circle, or --curve with --closed");
             what += " of length " + std::to_string(curve->length());
+            where = vector_pattern::along_planar_curve{std::move(*curve)};
         }
-        progress(0.8, "mesh");
-        if (!in_space) mirror_y(mesh);  // STL in a y-up frame (the SVG is y-down); a space curve keeps its CSV's frame
-        weld_to_float(mesh);
-        require_watertight(mesh, on_surface ? "the decorated solid, rounded to single precision," : "the extruded mesh, rounded to single precision,");
-        const mesh_topology_info solid = on_surface ? analyze_topology(mesh) : mesh_topology_info{};
 
-        const box2 bounds = bounding_box(drawn);
-        if (bounds.empty()) throw solver_error("the synthesized pattern is empty");
-        const box2 view = framed_view(bounds, 0.02);
-        const io::svg_document doc = io::document_of(drawn, view);
-        // a 3D result is shown as a shaded render of the solid, from two opposite sides
-        const image8 png = in_space ? render_two_sides(mesh, {.direction = {0.35, 1.0, -0.45}, .up = {0, 0, 1}}, {.width = 800, .height = 800})
-                                    : preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
+        // The pipeline: synthesis, mapping, the printable solid, the preview (progress within 5%-85%).
+        const vector_pattern::pattern_result res = vector_pattern::make_pattern(
+            raw, *where, po, [&](double fraction, std::string_view stage) { progress(0.05 + 0.8 * fraction, stage); });
+        const triangle_mesh& mesh = res.mesh;
+        if (on_surface)
+            what = std::string(emboss ? "embossed" : "carved") + (res.closed ? " closed" : " open") + " band of length " + std::to_string(res.band_length) +
+                   " on " + mesh_path + (res.cut_open ? " (closed: cut open for the map, far from the points)" : "");
+        const io::svg_document doc = io::document_of(res.drawn, res.view);
 
         progress(0.9, "write");
         io::write_svg(svg_file, doc);
@@ -287,23 +239,24 @@ int main(int argc, char** argv) {
 #if defined(FABSYNTH_HAS_LIB3MF)
         io::write_3mf(threemf_file, mesh, {.name = svg_out.stem().string()});
 #endif
-        io::write_png(png_file, png);
+        io::write_png(png_file, res.preview);
         outputs.commit();
 
-        std::size_t rings = 0;
-        for (const auto& p : drawn) rings += 1 + p.holes.size();
+        const std::size_t rings = res.rings, crossings = res.edge_crossings;
+        const mesh_topology_info& solid = res.solid;
         progress(1.0, "write");
         // the distortion: every piece is stretched along the curve by L / (its pieces' natural length)
-        const double stretch = so.length > 0 && res.achieved_length > 0 ? so.length / res.achieved_length : 1.0;
+        const double stretch = res.stretch;
+        const vector_pattern::synthesis_result& syn = res.synthesis;
         const std::string thick = on_surface ? "" : ", " + std::to_string(thickness) + " mm thick";
         char line[640];
         std::snprintf(line, sizeof line,
                       "%s: %s, exemplar %s scaled to height %g\npieces: %zu input, %zu in result, natural length %.2f mm "
                       "stretched by %.3f; DP %.3f s (%zu entries, %.1f MB)\n"
                       "topology: %u components, %u holes; %zu rings drawn; STL %zu triangles%s",
-                      svg_out.string().c_str(), what.c_str(), exemplar_path.c_str(), height, res.input_pieces, res.sequence.size(),
-                      res.achieved_length, stretch, res.dp_seconds, res.dp_entries, static_cast<double>(res.dp_peak_bytes) / (1024.0 * 1024.0), res.components,
-                      res.holes, rings, mesh.faces.size(), thick.c_str());
+                      svg_out.string().c_str(), what.c_str(), exemplar_path.c_str(), height, syn.input_pieces, syn.sequence.size(),
+                      syn.achieved_length, stretch, syn.dp_seconds, syn.dp_entries, static_cast<double>(syn.dp_peak_bytes) / (1024.0 * 1024.0), syn.components,
+                      syn.holes, rings, mesh.faces.size(), thick.c_str());
         common.say(line);
         if (on_surface) {
             std::snprintf(line, sizeof line, "surface: %zu edge crossings in the curve; solid: %zu components, genus %lld", crossings, solid.components,
@@ -314,14 +267,14 @@ int main(int argc, char** argv) {
                         {"edge_crossings", crossings},
                         {"solid_components", solid.components},
                         {"solid_genus", solid.genus},
-                        {"components", res.components},
-                        {"holes", res.holes},
-                        {"input_pieces", res.input_pieces},
-                        {"result_pieces", res.sequence.size()},
-                        {"natural_length_mm", res.achieved_length},
+                        {"components", syn.components},
+                        {"holes", syn.holes},
+                        {"input_pieces", syn.input_pieces},
+                        {"result_pieces", syn.sequence.size()},
+                        {"natural_length_mm", syn.achieved_length},
                         {"stretch", stretch},
                         {"rings", rings},
-                        {"dp_seconds", res.dp_seconds},
+                        {"dp_seconds", syn.dp_seconds},
                         {"stl_triangles", mesh.faces.size()},
                         {"outputs", {svg_out.string(), stl_out.string(), png_out.string()}}});
     });

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "fabsynth/fem.hpp"
-#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/atomic_file.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
 #include "fabsynth/io/vtk.hpp"
 #include "output_set.hpp"
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
             for (int k = 0; k < 3; ++k) disp.push_back(u[k]), rot.push_back(q[k]);
             any_rot = any_rot || r.dofs.count[i] == 6;
         }
-        fabsynth::io::detail::atomic_write(disp_csv, csv);
+        fabsynth::io::atomic_write(disp_csv, csv);
 
         csv = "element,sxx,syy,szz,sxy,syz,szx,von_mises\n";
         std::size_t vm_el = 0;
@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
             vm_field.push_back(vm);
             if (vm > vm_max) vm_max = vm, vm_el = e;
         }
-        fabsynth::io::detail::atomic_write(stress_csv, csv);
+        fabsynth::io::atomic_write(stress_csv, csv);
 
         std::vector<fabsynth::io::vtk_cell> cells;
         for (const fem::element& e : m.elements)

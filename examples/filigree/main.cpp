@@ -6,27 +6,33 @@
 //            [--thickness MM] [--material abs|pla] [--no-structure] [--seed S] -o OUT.svg
 //   filigree --element E.svg ... --mesh M.obj [--mesh-size MM] [--region FACES.txt | --region-curve C.csv] [--up X Y Z]
 //            [--field-scale-file F.txt] --scale MM --width MM [--thickness MM] [--seed S] -o OUT.stl
-//            (on a base surface: on_surface.hpp; OUT.stl, OUT.obj, OUT.png, OUT.json)
+//            (on a base surface: OUT.stl printable solid, OUT.obj baked M_b, OUT.png, OUT.json)
 //
-// Pipeline (include/fabsynth/filigree/): elements (element.hpp) -> initialization (§4.1) ->
-// rounds of placement optimization with smooth connections and boosting (§4.3, §4.4) -> topology
-// cut (§4.5) -> strips (reconstruct.hpp, §6) -> structural optimization by shell FEM (§5) ->
-// extrusion. Outputs: OUT.svg (filled shapes only), OUT.stl (watertight extrusion, y flipped so the
-// print looks like the drawing), OUT.png (preview), OUT_steps.png (after initialization,
-// placement, boosting and topology cut, like the paper's Fig. 8), OUT.json (report). Nothing is
-// written unless everything succeeded. Conventions (exit codes, --quiet, --json): docs/tools.md.
+// The tool reads the inputs, makes one library call (make_filigree in
+// include/fabsynth/filigree/pipeline.hpp, or filigree/surface/pipeline.hpp on a base surface:
+// elements (element.hpp) -> initialization (§4.1) -> rounds of placement optimization with smooth
+// connections and boosting (§4.3, §4.4) -> topology cut (§4.5) -> strips (reconstruct.hpp, §6) ->
+// structural optimization by shell FEM (§5) -> extrusion or thickening, previews) and writes the
+// files. Outputs of the planar form: OUT.svg (filled shapes only), OUT.stl (watertight extrusion, y
+// flipped so the print looks like the drawing), OUT.png (preview), OUT_steps.png (after
+// initialization, placement, boosting and topology cut, like the paper's Fig. 8), OUT.json
+// (report). Nothing is written unless everything succeeded. Conventions (exit codes, --quiet,
+// --json): docs/tools.md.
 
-#include <fabsynth/filigree/reinforcement.hpp>
-#include <fabsynth/filigree/synthesis.hpp>
-#include <fabsynth/geometry/coverage_image.hpp>
-#include <fabsynth/geometry/extrude.hpp>
-#include <fabsynth/geometry/mesh_topology.hpp>
+
+#include <fabsynth/filigree/pipeline.hpp>
+#include <fabsynth/filigree/surface/pipeline.hpp>
 #include <fabsynth/io/image.hpp>
+#include <fabsynth/io/mesh.hpp>
+#include <fabsynth/io/mesh_obj.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
+#include <fabsynth/io/numbers.hpp>
+#include <fabsynth/io/points.hpp>
 #include <fabsynth/io/svg.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -36,9 +42,9 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include "on_surface.hpp"
 #include "output_set.hpp"
 #include "tool.hpp"
 
@@ -69,23 +75,49 @@ element_arg parse_element(const std::string& a) {
     return e;
 }
 
-std::vector<polygon_with_holes> strips_of(const std::vector<graph::skeleton_graph<vec2>>& sk, const planar_domain& d) {
-    return strip_outline(std::span<const graph::skeleton_graph<vec2>>(sk), d.region);
+// The --mesh form's inputs.
+struct surface_request {
+    std::string mesh, region, region_curve, scale_file;
+    std::vector<double> up{0, 0, 1};
+    double mesh_size = 0;  // 0: the mesh is in mm as it is
+};
+
+// The report fields of the synthesis rounds, common to both forms (synthesis_result and
+// surface_synthesis_result have them under the same names).
+template <class R>
+nlohmann::ordered_json layout_fields(const R& syn) {
+    return {{"rounds", syn.rounds},
+            {"pme", {{"initial", syn.energy_initial}, {"after_first_placement", syn.energy_after_placement}, {"final", syn.energy_final}}},
+            {"pme_per_instance_per_round", syn.energy_per_round},
+            {"smooth_connections", syn.smooth_connections},
+            {"boosted_moves", syn.boosted},
+            {"boosting_reconnections", syn.reconnected},
+            {"duplicates_removed", syn.duplicates_removed}};
 }
 
-// The skeletons of a set of instances (no topology cut), for the steps picture.
-std::vector<graph::skeleton_graph<vec2>> skeletons_of(std::span<const element> classes, const std::vector<instance>& in, const planar_domain& d) {
-    pattern_state s(classes, in, constant_field{}, d, 0.0);
-    return world_skeletons(s);
+// The §5 record of both forms (reinforcement_result and surface_reinforcement_result share these
+// names); `up`: the surface form's up vector, between pressure and supports.
+template <class R>
+nlohmann::ordered_json structure_fields(const R& rf, const std::string& material, double pressure, const std::vector<double>* up) {
+    nlohmann::ordered_json s = {{"analysed", rf.analysed}, {"material", material}, {"pressure_pa", pressure}};
+    if (up) s["up"] = *up, s["supports"] = "lowest 5% along up";
+    s.update(nlohmann::ordered_json{{"yield_mpa", rf.yield_mpa}, {"fem_nodes", rf.fem_nodes}, {"solver", rf.solver},
+                                    {"histogram_bin_mpa", rf.histogram_bin_mpa}, {"histogram_before", rf.histogram_before},
+                                    {"histogram_after", rf.histogram_after}, {"max_von_mises_before_mpa", rf.max_von_mises_before},
+                                    {"max_von_mises_after_mpa", rf.max_von_mises_after}, {"weak_fraction_phase1", rf.weak_fraction_phase1},
+                                    {"inserted_per_round", rf.inserted_per_round}, {"thickness_phase2_mm", rf.thickness_phase2},
+                                    {"weak_fraction_phase2", rf.weak_fraction_phase2}});
+    return s;
 }
 
-image8 steps_image(const std::vector<std::vector<polygon_with_holes>>& panels, const box2& view) {
-    std::vector<image8> imgs;
-    for (const auto& p : panels) imgs.push_back(preview_image(p, view, {.max_side = 700, .supersample = 3}));
-    return side_by_side(imgs, 12, std::uint8_t{200}, false);
+// Writes the JSON report to the staged `file` (errors name `shown`, the final path).
+void write_report(const fs::path& file, const fs::path& shown, const nlohmann::ordered_json& report) {
+    std::ofstream j(file);
+    j << report.dump(2) << "\n";
+    if (!j) throw io_error(shown.string(), 0, "cannot write the report");
 }
 
-}  // namespace
+double seconds_since(std::chrono::steady_clock::time_point t) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); }
 
 // The ranges both forms check (scale, width, thickness, tolerance, sigma_d, sigma_f, rounds).
 void check_common_ranges(double scale, double width, double thickness, double tolerance, double sigma_d, double sigma_f, int rounds) {
@@ -109,13 +141,34 @@ void load_classes(const std::vector<element_arg>& elements, double scale, double
     }
 }
 
-// The --mesh form (on_surface.hpp): elements read as in the 2D form, the rest on the surface.
+// The area of the smallest covering region among classes of positive weight, times s_min^2
+// (infinite when every weight is 0).
+double smallest_cover(const std::vector<element>& classes, const std::vector<double>& weights, double s_min) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < classes.size(); ++c)
+        if (weights[c] > 0) smallest = std::min(smallest, classes[c].covering_area * s_min * s_min);
+    return smallest;
+}
+
+// The pattern's size before any work: initialization covers >= 40% new area per element.
+void check_work(double area, double smallest, double max_elements, const char* where) {
+    tool::require_work(area / (0.4 * smallest), max_elements, 25.0, "element instances", "--max-elements",
+                       std::string(where) + std::to_string(area) + " mm^2 with elements of " + std::to_string(smallest) + " mm^2",
+                       "or a larger --scale");
+}
+
+// Progress of the library call inside the tool's: fractions [0, 1] of the call -> [from, to].
 template <class Progress>
-void run_surface_mode(const filigree_tool::surface_request& rq, const std::vector<std::string>& element_args, double scale, double width,
-                      reinforcement_options ro, double tolerance, double sigma_d, double sigma_f, int rounds, double max_elements,
-                      const std::string& out_path, tool::common& common, Progress& progress) {
-    const double thickness = ro.thickness;
-    const std::uint64_t seed = ro.seed;
+auto progress_between(Progress& progress, double from, double to) {
+    return [&progress, from, to](double f, std::string_view stage) { progress(from + (to - from) * f, stage); };
+}
+
+// The --mesh form: elements read as in the 2D form, the rest on the surface.
+template <class Progress>
+void run_surface_mode(const surface_request& rq, const std::vector<std::string>& element_args, double scale, double width, const std::string& material,
+                      surface_filigree_options opt, double tolerance, double max_elements, const std::string& out_path, tool::common& common,
+                      Progress& progress) {
+    const auto t_start = std::chrono::steady_clock::now();
     std::vector<element_arg> elements;
     for (const std::string& a : element_args) elements.push_back(parse_element(a));
     std::vector<fs::path> inputs{rq.mesh};
@@ -124,13 +177,14 @@ void run_surface_mode(const filigree_tool::surface_request& rq, const std::vecto
     if (!rq.region_curve.empty()) inputs.emplace_back(rq.region_curve);
     if (!rq.scale_file.empty()) inputs.emplace_back(rq.scale_file);
     const fs::path out(out_path);
-    std::vector<fs::path> outs;
-    for (const char* ext : {".stl", ".obj", ".png", ".json"}) outs.push_back(fs::path(out).replace_extension(ext));
-    tool::check_outputs(inputs, outs);
+    fs::path stl_out = out, obj_out = out, png_out = out, json_out = out;
+    stl_out.replace_extension(".stl"), obj_out.replace_extension(".obj"), png_out.replace_extension(".png"), json_out.replace_extension(".json");
+    tool::check_outputs(inputs, {stl_out, obj_out, png_out, json_out});
     for (const auto& e : elements)
         if (!fs::is_regular_file(e.path)) throw io_error(e.path, 0, "no such element file");
-    check_common_ranges(scale, width, thickness, tolerance, sigma_d, sigma_f, rounds);
+    check_common_ranges(scale, width, opt.reinforcement.thickness, tolerance, opt.synthesis.sigma_d, opt.synthesis.sigma_f, opt.synthesis.max_rounds);
     tool::require_range(max_elements, 1, 1e6, "--max-elements", "");
+    opt.synthesis.init.max_elements = static_cast<std::size_t>(max_elements);
     if (rq.mesh_size != 0) tool::require_range(rq.mesh_size, 1e-2, 1e5, "--mesh-size", "mm");
     for (const double x : rq.up)
         if (!std::isfinite(x)) throw invalid_input("--up must be finite");
@@ -138,22 +192,78 @@ void run_surface_mode(const filigree_tool::surface_request& rq, const std::vecto
     std::vector<double> weights;
     load_classes(elements, scale, width, tolerance, classes, weights);
     if (std::all_of(weights.begin(), weights.end(), [](double w) { return w <= 0; })) throw invalid_input("--element: every class has weight 0");
-    synthesis_options so;
-    so.seed = seed, so.sigma_d = sigma_d, so.sigma_f = sigma_f, so.max_rounds = rounds;
-    so.init.max_elements = static_cast<std::size_t>(max_elements);
     tool::output_set outputs;
-    if (!(std::isfinite(ro.pressure_pa) && ro.pressure_pa >= 0)) throw invalid_input("--pressure must be finite and >= 0 Pa");
-    const nlohmann::ordered_json report = filigree_tool::run_on_surface(rq, classes, weights, so, ro, max_elements, out, outputs, progress);
+    if (!(std::isfinite(opt.reinforcement.pressure_pa) && opt.reinforcement.pressure_pa >= 0))
+        throw invalid_input("--pressure must be finite and >= 0 Pa");
+    const fs::path stl_file = outputs.add(stl_out), obj_file = outputs.add(obj_out), png_file = outputs.add(png_out), json_file = outputs.add_manifest(json_out);
+
+    progress(0.0, "read mesh");
+    triangle_mesh mesh = io::read_mesh(rq.mesh);
+    if (mesh.faces.empty()) throw invalid_input(rq.mesh + ": the mesh has no faces");
+    size_fit fit;  // the largest side of the bounding box becomes mesh_size mm
+    if (rq.mesh_size > 0) fit = fit_to_size(mesh, rq.mesh_size);
+    if (!rq.region.empty()) {
+        std::vector<std::uint32_t> ids;
+        for (const double x : io::read_numbers(rq.region)) {
+            if (x < 0 || x != std::floor(x) || x >= static_cast<double>(mesh.faces.size()))
+                throw invalid_input(rq.region + ": face id " + std::to_string(x) + " is not a face of the mesh (0.." + std::to_string(mesh.faces.size() - 1) + ")");
+            ids.push_back(static_cast<std::uint32_t>(x));
+        }
+        opt.region_faces = std::move(ids), opt.region_name = rq.region;
+    }
+    if (!rq.region_curve.empty()) {
+        std::vector<vec3> curve = io::read_points_csv(rq.region_curve);
+        for (vec3& p : curve) p = fit(p);
+        opt.region_curve = std::move(curve), opt.region_name = rq.region_curve;
+    }
+    if (!rq.scale_file.empty()) opt.vertex_scale = io::read_numbers(rq.scale_file);
+    const surface_filigree_base base(std::move(mesh), opt);
+    check_work(base.region().area, smallest_cover(classes, weights, 1.0), max_elements, "a region of ");
+
+    const surface_filigree f = make_filigree(classes, weights, base, opt, progress_between(progress, 0.0, 0.95));
+    const surface_synthesis_result& syn = f.synthesis;
+    const surface_reinforcement_result& rf = f.reinforcement;
+
+    nlohmann::ordered_json report = {
+        {"tool", "filigree"},
+        {"mode", "surface"},
+        {"mesh", {{"file", rq.mesh}, {"vertices", base.mesh().vertices.size()}, {"faces", base.mesh().faces.size()},
+                  {"region_faces", base.region().faces.size()}, {"region_area_mm2", base.region().area}}},
+        {"instances", syn.instances.size()},
+        {"instances_per_class", f.instances_per_class},
+        {"local_parameterizations", {{"built", syn.maps_built}, {"seconds_summed_over_threads", syn.map_seconds}}},
+        {"topology_cut", {{"protrusions_trimmed", syn.cut.cut.protrusions_trimmed}, {"branches_cut", syn.cut.cut.branches_cut},
+                          {"cuts_refused_for_connectivity", syn.cut.cut.cuts_refused_for_connectivity},
+                          {"split_vertices_off_surface", syn.cut.vertices_off_surface}}},
+        {"pieces_dropped", rf.pieces_dropped},
+        {"pieces_dropped_area_fraction", rf.dropped_area_fraction},
+        {"structure", structure_fields(rf, material, opt.reinforcement.pressure_pa, &rq.up)},
+        {"instances_final", rf.instances.size()},
+        {"thickness_mm", rf.thickness},
+        {"baked_triangles", rf.baked.faces.size()},
+        {"stl_triangles", f.solid.faces.size()},
+        {"stl_components", f.solid_components},
+        {"seconds", {{"initialization", f.seconds.synthesis.initialization}, {"placement", f.seconds.synthesis.placement},
+                     {"boosting", f.seconds.synthesis.boosting}, {"topology_cut", f.seconds.synthesis.topology_cut},
+                     {"bake_and_structure", f.seconds.structure}, {"printable_mesh", f.seconds.mesh}, {"total", seconds_since(t_start)}}},
+    };
+    report.update(layout_fields(syn));
+
+    progress(0.95, "write");
+    io::write_stl(stl_file, f.solid);
+    io::write_obj(obj_file, rf.baked);
+    io::write_png(png_file, f.preview);
+    write_report(json_file, json_out, report);
     outputs.commit();
     progress(1.0, "write");
     char line[400];
     std::snprintf(line, sizeof line, "%s: %zu instances on the surface, %d rounds, PME %.1f -> %.1f, thickness %.3g mm, %zu solid triangles",
-                  fs::path(out).replace_extension(".stl").string().c_str(), report["instances_final"].template get<std::size_t>(),
-                  report["rounds"].template get<int>(), report["pme"]["initial"].template get<double>(), report["pme"]["final"].template get<double>(),
-                  report["thickness_mm"].template get<double>(), report["stl_triangles"].template get<std::size_t>());
+                  stl_out.string().c_str(), rf.instances.size(), syn.rounds, syn.energy_initial, syn.energy_final, rf.thickness, f.solid.faces.size());
     common.say(line);
     common.summary(report);
 }
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{
@@ -195,7 +305,7 @@ int main(int argc, char** argv) {
     app.add_option("--tolerance", tolerance, "polygonal approximation of the element skeletons, mm")->capture_default_str();
     app.add_option("--max-elements", max_elements, "refuse domains estimated to need more element instances than this")->capture_default_str();
     app.add_option("-o,--output", out_path, "output SVG; OUT.stl, OUT.png, OUT_steps.png and OUT.json are written beside it")->required();
-    filigree_tool::surface_request on_mesh;
+    surface_request on_mesh;
     auto* o_mesh = app.add_option("--mesh", on_mesh.mesh, "base surface (OBJ, STL, PLY, 3MF): synthesize on it instead of a 2D domain")
                        ->check(CLI::ExistingFile);
     app.add_option("--mesh-size", on_mesh.mesh_size, "scale the base mesh so its bounding box's largest side is this many mm (default: as is, mm)");
@@ -212,13 +322,17 @@ int main(int argc, char** argv) {
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
-        if (!on_mesh.mesh.empty()) {
-            reinforcement_options ro;
-            ro.material = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
-            ro.thickness = thickness, ro.pressure_pa = pressure, ro.enabled = !no_structure, ro.seed = seed;
-            return run_surface_mode(on_mesh, element_args, scale, width, ro, tolerance, sigma_d, sigma_f, rounds, max_elements, out_path, common, progress);
-        }
         const auto t_start = std::chrono::steady_clock::now();
+        filigree_options opt;  // as the library's defaults, set from the options above
+        opt.synthesis.seed = seed, opt.synthesis.sigma_d = sigma_d, opt.synthesis.sigma_f = sigma_f, opt.synthesis.max_rounds = rounds;
+        opt.reinforcement.thickness = thickness, opt.reinforcement.pressure_pa = pressure, opt.reinforcement.enabled = !no_structure;
+        if (!on_mesh.mesh.empty()) {
+            opt.reinforcement.material = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
+            surface_filigree_options so;
+            static_cast<filigree_options&>(so) = opt;
+            so.up = vec3(on_mesh.up[0], on_mesh.up[1], on_mesh.up[2]);
+            return run_surface_mode(on_mesh, element_args, scale, width, material, std::move(so), tolerance, max_elements, out_path, common, progress);
+        }
         const fs::path svg_out(out_path);
         fs::path stl_out = svg_out, png_out = svg_out, json_out = svg_out;
         stl_out.replace_extension(".stl");
@@ -241,7 +355,7 @@ int main(int argc, char** argv) {
         if (!field_image.empty() && field_scale.size() != 2) throw invalid_input("--field-image needs --field-scale S0 S1");
         if (field_image.empty() && !field_scale.empty()) throw invalid_input("--field-scale needs --field-image");
         for (double s : field_scale) tool::require_range(s, 1e-2, 1e2, "--field-scale", "");
-        const material_preset mat = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
+        opt.reinforcement.material = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
         tool::output_set outputs;
         const fs::path svg_file = outputs.add(svg_out), stl_file = outputs.add(stl_out), png_file = outputs.add(png_out),
                        steps_file = outputs.add(steps_out), json_file = outputs.add_manifest(json_out);
@@ -253,16 +367,12 @@ int main(int argc, char** argv) {
         std::vector<element> classes;
         std::vector<double> weights;
         load_classes(elements, scale, width, tolerance, classes, weights);
-        {  // the pattern's size before any work: initialization covers >= 40% new area per element
-            double smallest = std::numeric_limits<double>::infinity();
-            const double s_min = field_scale.empty() ? 1.0 : std::min(field_scale[0], field_scale[1]);
-            for (std::size_t c = 0; c < classes.size(); ++c)
-                if (weights[c] > 0) smallest = std::min(smallest, classes[c].covering_area * s_min * s_min);
+        {
+            const double smallest = smallest_cover(classes, weights, field_scale.empty() ? 1.0 : std::min(field_scale[0], field_scale[1]));
             if (!std::isfinite(smallest)) throw invalid_input("--element: every class has weight 0");
             tool::require_range(max_elements, 1, 1e6, "--max-elements", "");
-            tool::require_work(domain.area / (0.4 * smallest), max_elements, 25.0, "element instances", "--max-elements",
-                               "a domain of " + std::to_string(domain.area) + " mm^2 with elements of " + std::to_string(smallest) + " mm^2",
-                               "or a larger --scale");
+            check_work(domain.area, smallest, max_elements, "a domain of ");
+            opt.synthesis.init.max_elements = static_cast<std::size_t>(max_elements);
         }
         any_field field = constant_field{rotation_deg * std::numbers::pi / 180.0, 1.0};
         std::string field_kind = "constant";
@@ -282,35 +392,10 @@ int main(int argc, char** argv) {
             field_kind = "image";
         }
 
-        progress(0.05, "synthesis");
-        synthesis_options so;
-        so.seed = seed, so.sigma_d = sigma_d, so.sigma_f = sigma_f, so.max_rounds = rounds;
-        so.init.max_elements = static_cast<std::size_t>(max_elements);
-        synthesis_result syn = synthesize_pattern(std::span<const element>(classes), weights, domain, field, so);
+        const planar_filigree f = make_filigree(std::span<const element>(classes), weights, domain, field, opt, progress_between(progress, 0.05, 0.95));
+        const synthesis_result& syn = f.synthesis;
+        const reinforcement_result& rf = f.reinforcement;
 
-        progress(0.6, "strips");
-        reinforcement_options ro;
-        ro.material = mat, ro.thickness = thickness, ro.pressure_pa = pressure, ro.enabled = !no_structure, ro.seed = seed;
-        const reinforcement_result rf = reinforce(std::span<const element>(classes), weights, domain, field, so, syn, ro);
-        const std::vector<polygon_with_holes>& drawn = rf.outline;
-        if (drawn.empty()) throw solver_error("the synthesized pattern is empty");
-
-        progress(0.85, "mesh");
-        triangle_mesh mesh = printable_extrusion(drawn, rf.thickness);
-        mirror_y(mesh);
-        weld_to_float(mesh);
-        require_watertight(mesh, "the extruded filigree, rounded to single precision,");
-
-        const box2 view = framed_view(domain.bounds, 0.02);
-        const io::svg_document doc = io::document_of(drawn, view);
-        const image8 png = preview_image(drawn, view, {.max_side = 1600, .supersample = 4});
-        const image8 steps = steps_image({strips_of(skeletons_of(classes, syn.initial, domain), domain),
-                                          strips_of(skeletons_of(classes, syn.placed_once, domain), domain),
-                                          strips_of(skeletons_of(classes, syn.instances, domain), domain), strips_of(syn.skeletons, domain)},
-                                         view);
-
-        std::vector<std::size_t> per_class(classes.size(), 0);
-        for (const instance& in : rf.instances) ++per_class[in.cls];
         nlohmann::ordered_json report = {
             {"tool", "filigree"},
             {"elements", nlohmann::ordered_json::array()},
@@ -324,29 +409,24 @@ int main(int argc, char** argv) {
             {"connected_components", rf.components},
             {"pieces_dropped", rf.pieces_dropped},
             {"pieces_dropped_area_fraction", rf.dropped_area_fraction},
-            {"structure", {{"analysed", rf.analysed}, {"material", material}, {"pressure_pa", pressure}, {"yield_mpa", rf.yield_mpa},
-                           {"fem_nodes", rf.fem_nodes}, {"solver", rf.solver}, {"histogram_bin_mpa", rf.histogram_bin_mpa},
-                           {"histogram_before", rf.histogram_before}, {"histogram_after", rf.histogram_after},
-                           {"max_von_mises_before_mpa", rf.max_von_mises_before}, {"max_von_mises_after_mpa", rf.max_von_mises_after},
-                           {"weak_fraction_phase1", rf.weak_fraction_phase1}, {"inserted_per_round", rf.inserted_per_round},
-                           {"thickness_phase2_mm", rf.thickness_phase2}, {"weak_fraction_phase2", rf.weak_fraction_phase2}}},
+            {"structure", structure_fields(rf, material, pressure, nullptr)},
             {"thickness_mm", rf.thickness},
-            {"stl_triangles", mesh.faces.size()},
-            {"seconds", {{"initialization", syn.seconds.initialization}, {"placement", syn.seconds.placement}, {"boosting", syn.seconds.boosting},
-                         {"topology_cut", syn.seconds.topology_cut}, {"structure", rf.seconds},
-                         {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()}}},
+            {"stl_triangles", f.mesh.faces.size()},
+            {"seconds", {{"initialization", f.seconds.synthesis.initialization}, {"placement", f.seconds.synthesis.placement},
+                         {"boosting", f.seconds.synthesis.boosting}, {"topology_cut", f.seconds.synthesis.topology_cut},
+                         {"structure", f.seconds.structure}, {"total", seconds_since(t_start)}}},
         };
-        report.update(filigree_tool::layout_fields(syn));
+        report.update(layout_fields(syn));
         for (std::size_t c = 0; c < classes.size(); ++c)
-            report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"instances", per_class[c]},
+            report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"instances", f.instances_per_class[c]},
                                           {"skeleton_vertices", classes[c].vertices.size()}, {"size_mm", classes[c].size}});
 
         progress(0.95, "write");
-        io::write_svg(svg_file, doc);
-        io::write_stl(stl_file, mesh);
-        io::write_png(png_file, png);
-        io::write_png(steps_file, steps);
-        filigree_tool::write_report(json_file, json_out, report);
+        io::write_svg(svg_file, io::document_of(f.outline(), f.view));
+        io::write_stl(stl_file, f.mesh);
+        io::write_png(png_file, f.preview);
+        io::write_png(steps_file, f.steps);
+        write_report(json_file, json_out, report);
         outputs.commit();
         progress(1.0, "write");
         char line[400];

@@ -33,7 +33,7 @@
 #include <fabsynth/core/parallel.hpp>
 #include <fabsynth/foam/elasticity_study.hpp>
 #include <fabsynth/foam/elasticity_text.hpp>
-#include <fabsynth/io/detail/atomic_file.hpp>
+#include <fabsynth/io/atomic_file.hpp>
 #include <fabsynth/io/image.hpp>
 
 #include "output_set.hpp"
@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
                                     header_file = header_path.empty() ? std::filesystem::path() : outputs.add(header_path),
                                     plot_file = plot_path.empty() ? std::filesystem::path() : outputs.add(plot_path);
         auto progress = [&](const foam::homogenized_sample& r, std::size_t index, std::size_t total, bool computed) {
-            if (computed && !cache_path.empty()) io::detail::atomic_write(cache_path, foam::format_sample_cache(cache));
+            if (computed && !cache_path.empty()) io::atomic_write(cache_path, foam::format_sample_cache(cache));
             char buf[320];
             std::snprintf(buf, sizeof buf,
                           "[%zu/%zu] rho %.4g tau %.4g seed %llu: w %.4f E %.5g nu %.4f iso %.4f islands %.4f period %lld "
@@ -162,8 +162,8 @@ int main(int argc, char** argv) {
             if (!common.quiet()) std::cerr << buf << std::endl;
         };
         const foam::elasticity_fit_report r = foam::run_elasticity_fit(c, &cache, progress);
-        if (!csv_path.empty()) io::detail::atomic_write(csv_file, foam::format_samples_csv(r.samples));
-        if (!header_path.empty()) io::detail::atomic_write(header_file, foam::format_elasticity_fit_header(c, r));
+        if (!csv_path.empty()) io::atomic_write(csv_file, foam::format_samples_csv(r.samples));
+        if (!header_path.empty()) io::atomic_write(header_file, foam::format_elasticity_fit_header(c, r));
         if (!plot_path.empty()) io::write_png(plot_file, foam_fit_plot::draw_plot(c, r));
         outputs.commit();
         std::ostringstream out;

@@ -34,7 +34,7 @@
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/points.hpp>
 #include <fabsynth/io/vtk.hpp>
-#include <fabsynth/io/detail/atomic_file.hpp>
+#include <fabsynth/io/atomic_file.hpp>
 #if defined(FABSYNTH_HAS_LIB3MF)
 #include <fabsynth/io/mesh_3mf.hpp>
 #endif
@@ -184,7 +184,7 @@ int main(int argc, char** argv) {
                 text.reserve(2 * pts.size());
                 std::size_t inside = 0;
                 for (const std::uint8_t c : r) text += c ? '1' : '0', text += '\n', inside += c;
-                io::detail::atomic_write(out_file, text);
+                io::atomic_write(out_file, text);
                 outputs.commit();
                 common.say("foam_slicer eval: " + std::to_string(inside) + " of " + std::to_string(pts.size()) + " points solid -> " + out);
                 common.summary({{"command", "eval"}, {"points", pts.size()}, {"solid", inside}, {"outputs", {out}}});
@@ -344,7 +344,7 @@ int main(int argc, char** argv) {
                                                  {"value", "255 = solid, 0 = empty (grey levels with --supersample)"},
                                                  {"count", files.size()},
                                                  {"slices", files}};
-        io::detail::atomic_write(manifest_json, manifest.dump(2) + "\n");
+        io::atomic_write(manifest_json, manifest.dump(2) + "\n");
         outputs.commit();
         const double ms = total_ms / static_cast<double>(which.size());
         const double solid_percent = 100.0 * double(solid) / 255.0 / double(std::max<std::uint64_t>(1, pixels));

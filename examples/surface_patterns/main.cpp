@@ -29,7 +29,7 @@
 #include <fabsynth/geometry/render.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
-#include <fabsynth/io/detail/atomic_file.hpp>
+#include <fabsynth/io/atomic_file.hpp>
 #include <fabsynth/io/vtk.hpp>
 #include <fabsynth/surface_pattern.hpp>
 
@@ -51,61 +51,11 @@ namespace sp = fabsynth::surface_pattern;
 
 namespace {
 
-using clock_type = std::chrono::steady_clock;
-double since(clock_type::time_point t) { return std::chrono::duration<double>(clock_type::now() - t).count(); }
-
 /// One uint8 cell field over the whole grid.
 io::structured_points byte_grid(const grid_geometry& g, const std::string& name, std::vector<double> values) {
     io::structured_points out{.dims = g.dims + 1, .origin = g.origin, .spacing = g.spacing, .cell_data = true, .fields = {}};
     out.fields.push_back({name, 1, std::move(values), io::vtk_type::uint8});
     return out;
-}
-
-/// Colour of each mesh vertex: the exemplar colour through the label of the nearest solid shell
-/// voxel, at that voxel's centre (searched in growing cubes around the vertex, up to `reach`
-/// voxels), lifted to [60, 255] so that shading still shows on near-black colours; reinforcement
-/// (state 3) and enlarged thin-feature (state 4) voxels in blue and green instead.
-std::vector<std::array<std::uint8_t, 3>> vertex_colours(const triangle_mesh& m, const sp::synthesizer& syn, const sp::synthesis_result& r,
-                                                        int reach, const std::vector<std::uint8_t>& state, bool exemplar_colours) {
-    const sp::shell_level& lv = syn.pyramid().levels[0];
-    std::vector<std::array<std::uint8_t, 3>> out(m.num_vertices(), {200, 200, 205});
-    parallel_for(0, m.num_vertices(), [&](std::size_t i) {
-        const vec3 x = m.vertices[i];
-        const ivec3 c = lv.geometry.voxel_of(x);
-        for (int rad = 0; rad <= reach; ++rad) {
-            double best = 1e300;
-            std::int64_t bv = -1;
-            for (int dz = -rad; dz <= rad; ++dz)
-                for (int dy = -rad; dy <= rad; ++dy)
-                    for (int dx = -rad; dx <= rad; ++dx) {
-                        if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != rad) continue;
-                        const std::int64_t v = lv.find(c + ivec3(dx, dy, dz));
-                        if (v < 0 || !r.solid[static_cast<std::size_t>(v)]) continue;
-                        const double d = glm::length(lv.center(static_cast<std::size_t>(v)) - x);
-                        if (d < best) best = d, bv = v;
-                    }
-            if (bv >= 0) {
-                const std::uint8_t st = state[static_cast<std::size_t>(bv)];
-                if (st == 3) return void(out[i] = {70, 110, 235});  // reinforcement
-                if (st == 4) return void(out[i] = {80, 190, 90});   // enlarged thin feature
-                if (!exemplar_colours) return;
-                // the colour at the voxel centre (inside the solid), not at the vertex on its border
-                const vec2 p = syn.labels().map(lv.center(static_cast<std::size_t>(bv)), r.labels[0][static_cast<std::size_t>(bv)]);
-                const std::array<std::uint8_t, 3> c = syn.source().colour_at(p.x, p.y);
-                for (int k = 0; k < 3; ++k) out[i][static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(60 + c[static_cast<std::size_t>(k)] * 195 / 255);
-                return;
-            }
-        }
-    }, {.grain = 4096});
-    return out;
-}
-
-/// The printable solid of shell states: thickened inward, edge/corner contacts joined so the mesh
-/// has as many pieces as the voxels have 26-components.
-sp::voxel_set printable_voxels(const sp::shell_level& l0, const std::vector<std::uint8_t>& solid, double thickness) {
-    sp::voxel_set thick = sp::thicken_inward(l0.geometry, l0.voxels, l0.normals, solid, thickness);
-    if (sp::set_components(thick, sp::mesh_connectivity{}).count != sp::set_components(thick).count) (void)sp::join_diagonal_contacts(thick);
-    return thick;
 }
 
 nlohmann::ordered_json stats_json(const sp::stress_statistics& s) {
@@ -187,7 +137,6 @@ int main(int argc, char** argv) {
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
-        const auto t_start = clock_type::now();
         const fs::path out(out_dir);
         const fs::path stl = out / "pattern.stl", shell_vtk = out / "shell.vtk", solid_vtk = out / "solid.vtk", preview = out / "preview.png",
                        report = out / "report.json", connected_vtk = out / "solid_connected.vtk", forces_vtk = out / "solid_forces.vtk";
@@ -225,203 +174,117 @@ int main(int argc, char** argv) {
         image8 colour;
         if (!colour_path.empty()) colour = io::read_png(colour_path);
         sp::exemplar ex = sp::make_exemplar(mask, colour_path.empty() ? nullptr : &colour, {.feature_px = feature, .tileable = !no_tiling});
-        const double ex_fraction = ex.solid_fraction();
 
-        progress(0.02, "voxelize");
-        auto t = clock_type::now();
-        const sp::surface_shell shell = sp::make_shell(mesh, {.size_mm = size, .resolution = resolution, .max_memory_bytes = max_memory_gib * double(1ull << 30)});
-        const sp::shell_pyramid pyr = sp::build_shell_pyramid(shell, levels ? levels : sp::default_levels(resolution));
-        const double t_voxelize = since(t);
-        const mesh_topology_info mesh_topo = analyze_topology(shell.mesh);
-
-        t = clock_type::now();
-        const sp::synthesizer syn(pyr, std::move(ex), {.mm_per_px = scale, .candidates = candidates, .jitter = jitter, .up = up_dir, .passes = passes, .seed = seed});
-        sp::synthesis_result result = syn.synthesize([&](double f, std::string_view stage) { progress(0.05 + (no_structure ? 0.6 : 0.3) * f, stage); });
-        const double t_synthesis = since(t);
-        const sp::shell_level& l0 = pyr.levels[0];
-        std::size_t carved_solid = 0;
-        for (auto v : result.solid) carved_solid += v;
-        const sp::speck_report specks = sp::remove_specks(l0.geometry, l0.voxels, result.solid, min_feature);
-
-        // structural optimization (Algorithm 1), optionally the Table 3 stages from the same synthesis
-        std::vector<std::uint8_t> state(l0.size(), 1), forced(l0.size(), 0), added(l0.size(), 0), thin(l0.size(), 0);
-        sp::structure_report structure;
-        std::optional<sp::voxel_set> stage_connected, stage_forces;
-        double t_structure = 0, t_resynthesis = 0;
-        sp::thin_feature_report thin_rep;
-        if (!no_structure) {
-            const sp::surface_graph gs = sp::build_surface_graph(l0);
-            sp::structure_options so;
-            so.r_pattern_mm = feature * syn.options().mm_per_px;
-            so.thickness_mm = thickness;
-            so.target_samples = samples;
-            so.seed = seed;
-            so.material = material;
-            so.design_load_n = design_load;
-            so.gravity = gravity_dir;
-            so.geodesic_factor = geodesic;
-            auto finish = [&](sp::synthesis_result& r, std::vector<std::uint8_t>* added) {
-                // §6.2.1 "Enlarging small features": within the shell, to the smallest printable radius
-                return sp::enlarge_thin_features(gs.graph(), r.solid, 0.5 * min_feature, h, added);
-            };
-            if (stages) {
-                const char* names[2] = {"stage: connected", "stage: forces"};
-                for (int k = 0; k < 2; ++k) {
-                    sp::synthesis_result r = result;
-                    sp::structure_options o = so;
-                    o.geodesic_factor = 0;
-                    o.force_criterion = k == 1;
-                    const sp::structure_report sr = sp::optimize_structure(syn, r, gs, o, max_iterations, nullptr,
-                                                                          [&](double f, std::string_view st) { progress(0.35 + 0.1 * k + 0.1 * f, std::string(names[k]) + ", " + std::string(st)); });
-                    (void)finish(r, nullptr);
-                    (k == 0 ? stage_connected : stage_forces) = printable_voxels(l0, r.solid, thickness);
-                }
-            }
-            structure = sp::optimize_structure(syn, result, gs, so, max_iterations, &forced,
-                                               [&](double f, std::string_view st) { progress(0.55 + 0.15 * f, st); }, &added);
-            thin_rep = finish(result, &thin);
-            t_structure = structure.structure_seconds;
-            t_resynthesis = structure.resynthesis_seconds;
-        }
-        for (std::size_t v = 0; v < l0.size(); ++v)
-            state[v] = !result.solid[v] ? 1 : thin[v] ? 4 : added[v] ? 3 : 2;
-
-        progress(0.7, "fabrication");
-        t = clock_type::now();
-        const sp::voxel_set thick = printable_voxels(l0, result.solid, thickness);
-        const sp::voxel_set_components cc = sp::set_components(thick);
-        const triangle_mesh pattern = sp::mesh_voxels(thick, smoothing);
-        const mesh_topology_info topo = analyze_topology(pattern);
-        const double t_fabrication = since(t);
-
-        // validation (§6.3): expected (gravity) and unexpected (orthogonal) loads
-        nlohmann::ordered_json validation = nullptr;
-        double t_validation = 0;
-        if (validate) {
-            t = clock_type::now();
-            sp::validation_options vo;
-            vo.material = material.elastic;
-            vo.density_kg_m3 = material.elastic.density * 1e12;  // t/mm^3 -> kg/m^3
-            vo.gravity = gravity_dir;
-            validation = nlohmann::ordered_json::object();
-            auto run = [&](const char* name, const sp::voxel_set& vs, double at) {
-                progress(at, std::string("validate ") + name);
-                validation[name] = {{"expected", stats_json(sp::validate_stress(vs, vo))}, {"unexpected", stats_json(sp::validate_stress(vs, sp::unexpected(vo)))}};
-            };
-            if (stage_connected) run("connected", *stage_connected, 0.72);
-            if (stage_forces) run("forces", *stage_forces, 0.76);
-            run(geodesic > 0 ? "forces_geodesic" : "final", thick, 0.80);
-            t_validation = since(t);
-        }
-
-        progress(0.85, "preview");
-        t = clock_type::now();
-        std::vector<std::array<std::uint8_t, 3>> colours;
-        if (!colour_path.empty() || !no_structure)
-            colours = vertex_colours(pattern, syn, result, static_cast<int>(std::ceil(thickness / h)) + 2, state, !colour_path.empty());
-        const render_view view{.direction = glm::length(up_dir) > 0 && std::abs(up_dir.y) < 0.9 * glm::length(up_dir) ? vec3(0, 1, 0) : vec3(0, 0, -1),
-                               .up = glm::length(up_dir) > 0 ? up_dir : vec3(0, 0, 1)};
-        const image8 picture = pattern.empty() ? image8(1552, 768, 3, 255)
-                                               : render_two_sides(pattern, view, {.width = 768, .height = 768}, colours);
-        const double t_preview = since(t);
+        sp::pattern_options po;
+        po.size_mm = size, po.resolution = resolution, po.levels = levels, po.thickness_mm = thickness, po.min_feature_mm = min_feature;
+        po.smoothing = smoothing, po.max_memory_bytes = max_memory_gib * double(1ull << 30);
+        po.synthesis = {.mm_per_px = scale, .candidates = candidates, .jitter = jitter, .up = up_dir, .passes = passes, .seed = seed};
+        po.structure = !no_structure, po.max_iterations = max_iterations, po.stages = stages, po.validate = validate;
+        po.structural.target_samples = samples, po.structural.seed = seed, po.structural.material = material;
+        po.structural.design_load_n = design_load, po.structural.gravity = gravity_dir, po.structural.geodesic_factor = geodesic;
+        const sp::pattern_result res = sp::make_pattern(mesh, std::move(ex), po, progress);
 
         // everything is computed: write the set
         progress(0.9, "write");
-        t = clock_type::now();
-        std::size_t shell_solid = 0;
+        const auto t = std::chrono::steady_clock::now();
+        const grid_geometry& g = res.grid;
         {
-            std::vector<double> st(static_cast<std::size_t>(l0.geometry.count()), 0.0);
-            for (std::size_t v = 0; v < l0.size(); ++v) {
-                st[static_cast<std::size_t>(l0.geometry.index(l0.voxels[v]))] = state[v];
-                shell_solid += result.solid[v];
-            }
-            io::write_vtk(shell_file, byte_grid(l0.geometry, "state", std::move(st)));
+            std::vector<double> st(static_cast<std::size_t>(g.count()), 0.0);
+            for (std::size_t v = 0; v < res.shell_voxels.size(); ++v) st[static_cast<std::size_t>(g.index(res.shell_voxels[v]))] = res.state[v];
+            io::write_vtk(shell_file, byte_grid(g, "state", std::move(st)));
         }
         auto write_solid = [&](const fs::path& path, const sp::voxel_set& vs) {
-            std::vector<double> sv(static_cast<std::size_t>(l0.geometry.count()), 0.0);
-            for (const ivec3& p : vs.voxels) sv[static_cast<std::size_t>(l0.geometry.index(p))] = 1.0;
-            io::write_vtk(path, byte_grid(l0.geometry, "solid", std::move(sv)));
+            std::vector<double> sv(static_cast<std::size_t>(g.count()), 0.0);
+            for (const ivec3& p : vs.voxels) sv[static_cast<std::size_t>(g.index(p))] = 1.0;
+            io::write_vtk(path, byte_grid(g, "solid", std::move(sv)));
         };
-        write_solid(solid_file, thick);
-        if (stage_connected) write_solid(connected_file, *stage_connected);
-        if (stage_forces) write_solid(forces_file, *stage_forces);
-        io::write_mesh(stl_file, pattern);
-        io::write_png(preview_file, picture);
-        const double t_write = since(t);
+        write_solid(solid_file, res.thickened);
+        if (res.stage_connected) write_solid(connected_file, *res.stage_connected);
+        if (res.stage_forces) write_solid(forces_file, *res.stage_forces);
+        io::write_mesh(stl_file, res.mesh);
+        io::write_png(preview_file, res.preview);
+        const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 
         nlohmann::ordered_json levels_json = nlohmann::ordered_json::array();
-        for (const sp::level_report& l : result.levels)
+        for (const sp::level_report& l : res.levels)
             levels_json.push_back({{"level", l.level}, {"voxels", l.voxels}, {"spacing_mm", l.spacing_mm}, {"sigma_px", l.sigma_px},
                                    {"energy_initial", l.energy_initial}, {"energy_passes", l.energy_passes}, {"candidates", l.candidates},
                                    {"candidates_per_second", l.seconds > 0 ? static_cast<double>(l.candidates) / l.seconds : 0.0},
                                    {"seconds", l.seconds}});
-        const double shell_fraction = static_cast<double>(shell_solid) / static_cast<double>(l0.size());
         std::size_t solves = 0;
-        for (const auto& it : structure.iterations) solves += static_cast<std::size_t>(it.solves);
-        const double total = since(t_start);
+        for (const auto& it : res.structure.iterations) solves += static_cast<std::size_t>(it.solves);
+        const double total = res.seconds.total + t_write;
         nlohmann::ordered_json rep = {
             {"mesh", mesh_path},
             {"exemplar", mask_path},
             {"color", colour_path},
-            {"mesh_closed", mesh_topo.is_watertight()},
+            {"mesh_closed", res.mesh_closed},
             {"size_mm", size},
-            {"grid", {l0.geometry.dims.x, l0.geometry.dims.y, l0.geometry.dims.z}},
-            {"voxel_mm", h},
-            {"exemplar_mm_per_px", syn.options().mm_per_px},
-            {"r_pattern_mm", feature * syn.options().mm_per_px},
+            {"grid", {g.dims.x, g.dims.y, g.dims.z}},
+            {"voxel_mm", res.voxel_mm},
+            {"exemplar_mm_per_px", res.mm_per_px},
+            {"r_pattern_mm", feature * res.mm_per_px},
             {"thickness_mm", thickness},
-            {"min_feature_mm", min_feature},
+            {"min_feature_mm", res.min_feature_mm},
             {"structure", !no_structure},
-            {"shell_voxels", l0.size()},
+            {"shell_voxels", res.shell_voxels.size()},
             {"levels", levels_json},
             {"passes_per_level", passes},
-            {"solid_fraction", shell_fraction},
-            {"solid_fraction_synthesized", static_cast<double>(carved_solid) / static_cast<double>(l0.size())},
-            {"exemplar_solid_fraction", ex_fraction},
-            {"specks_removed", specks.removed_components},
-            {"speck_voxels_removed", specks.removed_voxels},
+            {"solid_fraction", res.solid_fraction},
+            {"solid_fraction_synthesized", res.solid_fraction_synthesized},
+            {"exemplar_solid_fraction", res.exemplar_solid_fraction},
+            {"specks_removed", res.specks.removed_components},
+            {"speck_voxels_removed", res.specks.removed_voxels},
         };
         if (!no_structure) {
             rep["material"] = material.name;
             rep["gravity"] = gravity;
             rep["design_load_n"] = design_load;
-            rep["allowable_stress_mpa"] = material.tensile_strength_mpa / sp::structure_options{}.safety_factor;
+            rep["allowable_stress_mpa"] = po.structural.allowable_stress_mpa();
             rep["geodesic_factor"] = geodesic;
-            rep["structural"] = structure_json(structure);
+            rep["structural"] = structure_json(res.structure);
             rep["solves"] = solves;
-            rep["thin_feature_voxels"] = thin_rep.added_voxels;
+            rep["thin_feature_voxels"] = res.thin_features.added_voxels;
         }
-        rep["solid_voxels"] = thick.voxels.size();
-        rep["components_26"] = cc.count;
-        rep["pattern_faces"] = pattern.num_faces();
-        rep["pattern_watertight"] = topo.is_watertight();
-        if (validate) rep["validation"] = validation;
-        rep["timings"] = {{"voxelize", t_voxelize}, {"synthesis", t_synthesis}, {"structural_analysis", t_structure}, {"resynthesis", t_resynthesis},
-                          {"fabrication", t_fabrication}, {"validation", t_validation}, {"preview", t_preview}, {"write", t_write}, {"total", total}};
+        rep["solid_voxels"] = res.thickened.voxels.size();
+        rep["components_26"] = res.components_26;
+        rep["pattern_faces"] = res.mesh.num_faces();
+        rep["pattern_watertight"] = res.watertight;
+        if (validate) {
+            nlohmann::ordered_json validation = nlohmann::ordered_json::object();
+            for (const sp::stage_validation& sv : res.validation)
+                validation[sv.name] = {{"expected", stats_json(sv.expected)}, {"unexpected", stats_json(sv.unexpected)}};
+            rep["validation"] = validation;
+        }
+        const sp::pattern_timings& ts = res.seconds;
+        rep["timings"] = {{"voxelize", ts.voxelize}, {"synthesis", ts.synthesis}, {"structural_analysis", ts.structural_analysis},
+                          {"resynthesis", ts.resynthesis}, {"fabrication", ts.fabrication}, {"validation", ts.validation},
+                          {"preview", ts.preview}, {"write", t_write}, {"total", total}};
         rep["seed"] = seed;
-        io::detail::atomic_write(report_file, rep.dump(2) + "\n");
+        io::atomic_write(report_file, rep.dump(2) + "\n");
         files.commit();
         progress(1.0, "write");
 
         char line[640];
         std::snprintf(line, sizeof line,
                       "%s: %zu shell voxels, %zu levels, solid fraction %.3f (exemplar %.3f), %zu structural iterations (%s), %zu solves, "
-                      "%zu solid voxels in %d 26-components, pattern.stl %zu faces %s; synthesis %.2f s, structure %.2f s, total %.2f s",
-                      fs::path(mesh_path).filename().string().c_str(), l0.size(), pyr.levels.size(), shell_fraction, ex_fraction,
-                      structure.iterations.size(), no_structure ? "off" : structure.converged ? "converged" : "bound hit", solves, thick.voxels.size(),
-                      cc.count, pattern.num_faces(), topo.is_watertight() ? "watertight" : "NOT watertight", t_synthesis, t_structure, total);
+                      "%zu solid voxels in %zu 26-components, pattern.stl %zu faces %s; synthesis %.2f s, structure %.2f s, total %.2f s",
+                      fs::path(mesh_path).filename().string().c_str(), res.shell_voxels.size(), res.pyramid_levels, res.solid_fraction,
+                      res.exemplar_solid_fraction, res.structure.iterations.size(), no_structure ? "off" : res.structure.converged ? "converged" : "bound hit",
+                      solves, res.thickened.voxels.size(), res.components_26, res.mesh.num_faces(), res.watertight ? "watertight" : "NOT watertight",
+                      ts.synthesis, ts.structural_analysis, total);
         common.say(line);
         nlohmann::ordered_json outs = nlohmann::ordered_json::array();
         for (const fs::path& o : outputs) outs.push_back(o.string());
-        common.summary({{"shell_voxels", l0.size()},
-                        {"levels", pyr.levels.size()},
-                        {"solid_fraction", shell_fraction},
-                        {"exemplar_solid_fraction", ex_fraction},
-                        {"structural_iterations", structure.iterations.size()},
-                        {"converged", no_structure || structure.converged},
-                        {"components_26", cc.count},
-                        {"pattern_faces", pattern.num_faces()},
-                        {"watertight", topo.is_watertight()},
+        common.summary({{"shell_voxels", res.shell_voxels.size()},
+                        {"levels", res.pyramid_levels},
+                        {"solid_fraction", res.solid_fraction},
+                        {"exemplar_solid_fraction", res.exemplar_solid_fraction},
+                        {"structural_iterations", res.structure.iterations.size()},
+                        {"converged", no_structure || res.structure.converged},
+                        {"components_26", res.components_26},
+                        {"pattern_faces", res.mesh.num_faces()},
+                        {"watertight", res.watertight},
                         {"outputs", outs},
                         {"seconds", total}});
     });

@@ -10,7 +10,8 @@
 /// specks, inward thickening, meshing (surface_pattern/fabricate.hpp) and thin features
 /// (surface_pattern/thin_features.hpp), the full-resolution validation
 /// (surface_pattern/validation.hpp), and the structural optimizer with the loop of Algorithm 1
-/// (surface_pattern/structural.hpp).
+/// (surface_pattern/structural.hpp), and the whole pipeline in one call, make_pattern
+/// (surface_pattern/pipeline.hpp).
 #include "fabsynth/surface_pattern/shell.hpp"
 #include "fabsynth/surface_pattern/exemplar.hpp"
 #include "fabsynth/surface_pattern/labels.hpp"
@@ -22,3 +23,4 @@
 #include "fabsynth/surface_pattern/thin_features.hpp"
 #include "fabsynth/surface_pattern/validation.hpp"
 #include "fabsynth/surface_pattern/structural.hpp"
+#include "fabsynth/surface_pattern/pipeline.hpp"

@@ -5,10 +5,10 @@
 /// topology-driven slicing positions (vector_pattern/reeb_slicing.hpp), the transition cost between
 /// pieces (vector_pattern/portal_cost.hpp), synthesis along a band (vector_pattern/synthesis.hpp, with
 /// vector_pattern/offsets.hpp, vector_pattern/stitching.hpp, vector_pattern/contours.hpp), the map of
-/// band coordinates onto a curve (vector_pattern/band_map.hpp), curves in space and on surfaces with
-/// the decoration of a surface by a band (geometry/space_curve.hpp, geometry/disk_parameterization.hpp,
-/// geometry/surface_curve.hpp, geometry/surface_decoration.hpp; §6.3) and the PNG preview of a result
-/// (geometry/coverage_image.hpp).
+/// band coordinates onto a curve (vector_pattern/band_map.hpp), and the whole pipeline in one call,
+/// make_pattern (vector_pattern/pipeline.hpp): along planar curves, in rectangles, along curves in
+/// space and on surfaces, embossed or carved (§6.3). The curves, the surface decoration and the
+/// previews it uses are geometry's and surface's (geometry.hpp, surface.hpp), not re-exported here.
 #include "fabsynth/vector_pattern/exemplar.hpp"
 #include "fabsynth/vector_pattern/pieces.hpp"
 #include "fabsynth/vector_pattern/reeb_slicing.hpp"
@@ -18,8 +18,4 @@
 #include "fabsynth/vector_pattern/portal_cost.hpp"
 #include "fabsynth/vector_pattern/synthesis.hpp"
 #include "fabsynth/vector_pattern/band_map.hpp"
-#include "fabsynth/geometry/coverage_image.hpp"
-#include "fabsynth/geometry/disk_parameterization.hpp"
-#include "fabsynth/geometry/space_curve.hpp"
-#include "fabsynth/geometry/surface_curve.hpp"
-#include "fabsynth/geometry/surface_decoration.hpp"
+#include "fabsynth/vector_pattern/pipeline.hpp"

@@ -487,7 +487,14 @@ TEST_CASE("surface_patterns with the structural loop: one piece, stages, validat
                                      << p99("forces_geodesic", "expected") << "; unexpected: forces " << p99("forces", "unexpected")
                                      << ", forces+geodesic " << p99("forces_geodesic", "unexpected"));
     CHECK(p99("connected", "expected") >= 3 * p99("forces_geodesic", "expected"));
-    CHECK(p99("forces_geodesic", "unexpected") <= p99("forces", "unexpected"));
+    // The geodesic stage can only be judged where it laid a bridge: when it adds nothing, the
+    // forces and forces_geodesic solids are the same voxels and a comparison could not fail.
+    std::size_t geodesic_bridges = 0;
+    for (const json& it : its) geodesic_bridges += it.at("added_geodesic").get<std::size_t>();
+    if (geodesic_bridges > 0)
+        CHECK(p99("forces_geodesic", "unexpected") <= p99("forces", "unexpected"));
+    else
+        WARN("the geodesic criterion laid no bridge on this case: its benefit under the unexpected load is not tested here");
     std::map<std::string, std::string> first;
     for (const char* f : {"pattern.stl", "shell.vtk", "solid.vtk", "solid_connected.vtk", "solid_forces.vtk", "preview.png"})
         first[f] = slurp(fs::path(out) / f);

@@ -1,4 +1,4 @@
-// filigree/surface_field.hpp: the up-vector field against the meridians of a sphere and the axis of
+// filigree/surface/field.hpp: the up-vector field against the meridians of a sphere and the axis of
 // a cylinder, the pole fallback, directions interpolated from constraints (constant and linear
 // fields reproduced on a plane), scale fields, bad input.
 #include <catch2/catch.hpp>
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
-#include "fabsynth/filigree/surface_field.hpp"
+#include "fabsynth/filigree/surface/field.hpp"
 #include "support/sphere_mesh.hpp"
 
 namespace surface_field_test {

@@ -19,11 +19,13 @@
 
 #include "fabsynth/fem/inp_writer.hpp"
 #include "fabsynth/fem/solve_context.hpp"
+#include "fabsynth/filigree/surface/pipeline.hpp"
 #include "fabsynth/filigree/reconstruct.hpp"
-#include "fabsynth/filigree/surface_structure.hpp"
+#include "fabsynth/filigree/surface/structure.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
-#include "fabsynth/geometry/surface_offset.hpp"
+#include "fabsynth/surface/offset.hpp"
 #include "fabsynth/io/svg.hpp"
+#include "support/filigree_elements.hpp"
 #include "support/sphere_mesh.hpp"
 #include "support/surface_setup.hpp"
 
@@ -33,13 +35,7 @@ using namespace fabsynth;
 using namespace fabsynth::filigree;
 namespace fs = std::filesystem;
 
-inline element scroll(double size) {
-    element_options o;
-    o.size_mm = size;
-    o.width_mm = 0.8;
-    o.name = "c_scroll";
-    return element_from_svg(io::read_svg(fs::path(FABSYNTH_DATA_DIR) / "filigree" / "c_scroll.svg", 0.01), o);
-}
+inline element scroll(double size) { return fabsynth::test::filigree_element("c_scroll", size); }
 
 
 
@@ -180,23 +176,22 @@ TEST_CASE("surface filigree on a cylinder: M_b one piece, watertight solid, shel
           "[filigree][surface][structure]") {
     const std::vector<element> cls{scroll(12)};
     const std::vector<double> w{1.0};
-    const fabsynth::test::surface_setup band(fabsynth::test::cylinder(15, 24, 48, 1.5), {0, 0, 1});
-    synthesis_options so;
-    so.max_rounds = 1;
-    so.seed = 4;
-    const auto syn = synthesize_on_surface(cls, w, band.region, band.field(), so);
-    surface_reinforcement_options ro;
-    ro.up = {0, 0, 1};
-    ro.base.thickness = 0.6;
-    const auto rf = reinforce_on_surface(cls, w, band.region, band.field(), so, syn, ro);
+    // the pipeline's chain (pipeline.hpp): synthesis, baking and §5 on the whole cylinder, up = +z, then the thickened solid
+    surface_filigree_options opt;
+    opt.synthesis.max_rounds = 1;
+    opt.synthesis.seed = 4;
+    opt.up = {0, 0, 1};
+    opt.reinforcement.thickness = 0.6;
+    opt.previews = false;
+    const surface_filigree f = make_filigree(cls, w, fabsynth::test::cylinder(15, 24, 48, 1.5), opt);
+    const surface_reinforcement_result& rf = f.reinforcement;
     CHECK(edge_pieces(rf.baked) == 1);
     CHECK(rf.dropped_area_fraction < 0.05);
     REQUIRE(rf.analysed);
     CHECK(rf.weak_fraction_phase2.back() == 0.0);
     CHECK(rf.max_von_mises_after <= rf.yield_mpa);
 
-    const triangle_mesh solid = thicken_surface(rf.baked, rf.thickness, {.cell = rf.thickness / 3});
-    const auto topo = analyze_topology(solid);
+    const auto topo = analyze_topology(f.solid);  // recounted here: make_filigree refuses a solid that is not watertight
     CHECK(topo.is_watertight());
     CHECK(topo.components == 1);
 

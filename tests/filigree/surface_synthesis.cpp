@@ -14,8 +14,9 @@
 #include "fabsynth/filigree/domain.hpp"
 #include "fabsynth/filigree/element.hpp"
 #include "fabsynth/filigree/initialization.hpp"
-#include "fabsynth/filigree/surface_synthesis.hpp"
-#include "fabsynth/filigree/surface_topology_cut.hpp"
+#include "fabsynth/filigree/surface/synthesis.hpp"
+#include "fabsynth/filigree/surface/topology_cut.hpp"
+#include "support/filigree_elements.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
 #include "fabsynth/filigree/topology_cut.hpp"
 #include "fabsynth/io/svg.hpp"
@@ -28,13 +29,7 @@ using namespace fabsynth;
 using namespace fabsynth::filigree;
 namespace fs = std::filesystem;
 
-inline element load_element(const std::string& name, double size) {
-    element_options o;
-    o.size_mm = size;
-    o.width_mm = 0.8;
-    o.name = name;
-    return element_from_svg(io::read_svg(fs::path(FABSYNTH_DATA_DIR) / "filigree" / (name + ".svg"), 0.01), o);
-}
+inline element load_element(const std::string& name, double size) { return fabsynth::test::filigree_element(name, size); }
 
 
 

@@ -20,6 +20,7 @@
 #include "fabsynth/filigree/placement.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/io/svg.hpp"
+#include "support/filigree_elements.hpp"
 
 namespace synth_test {
 
@@ -31,13 +32,7 @@ const fs::path data = FABSYNTH_DATA_DIR;
 
 inline std::vector<std::string> bundled() { return {"spiral", "s_curl", "c_scroll", "leaf", "heart_curls"}; }
 
-inline element load(const std::string& name, double size = 20, double width = 0.8) {
-    element_options o;
-    o.size_mm = size;
-    o.width_mm = width;
-    o.name = name;
-    return element_from_svg(io::read_svg(data / "filigree" / (name + ".svg"), 0.01), o);
-}
+inline element load(const std::string& name, double size = 20, double width = 0.8) { return fabsynth::test::filigree_element(name, size, width); }
 
 // Initialization of one element class with default options and the given seed.
 inline initialization_result initialize_one_class(const std::vector<element>& cls, const planar_domain& dom, std::uint64_t seed) {

@@ -151,3 +151,27 @@ TEST_CASE("shortest paths reject bad sources and masks", "[graph][shortest_paths
     CHECK(geodesic(g, 0, 2).length == 2.0);
     CHECK(geodesic(g, 1, 1).vertices == std::vector<vertex_id>{1});
 }
+
+TEST_CASE("bounded_search finds exactly the vertices closer than the radius, in order, run after run", "[graph][shortest_paths]") {
+    for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+        const auto rg = test::make_random_graph(seed, 60, 1.0 + static_cast<double>(seed % 4), seed % 2 == 0);
+        const auto g = build_csr(rg.n, rg.edges);
+        bounded_search near(rg.n);  // one object for every run: the reset of the last run's vertices is under test
+        for (vertex_id source = 0; source < rg.n; source += 7) {
+            std::vector<std::uint8_t> fixed;
+            const auto want = test::bellman_ford_forest(rg, {}, oracle_from_sources(rg.n, {source}, fixed), fixed);
+            const double radius = 0.5 + static_cast<double>(seed % 5);
+            std::vector<vertex_id> found;
+            near.run(g, source, radius, [&](vertex_id v) { found.push_back(v); });
+            std::vector<std::uint8_t> seen(rg.n, 0);
+            for (std::size_t k = 0; k < found.size(); ++k) {
+                REQUIRE(!seen[found[k]]);  // each vertex once
+                seen[found[k]] = 1;
+                if (k) REQUIRE(want.distance[found[k - 1]] <= want.distance[found[k]]);  // by distance
+            }
+            for (vertex_id v = 0; v < rg.n; ++v) REQUIRE(static_cast<bool>(seen[v]) == (want.distance[v] < radius));
+        }
+    }
+    bounded_search near(3);
+    CHECK_THROWS_AS(near.run(7, 1.0, [](vertex_id, auto&&) {}, [](vertex_id) {}), invalid_input);
+}

@@ -1,10 +1,25 @@
 # Every public header of the listed modules compiles on its own (-fsyntax-only, one header per
 # translation unit). Run by ctest as `headers`:
-#   cmake -DCXX=<compiler> -DINCLUDE=<repo>/include -DMODULES=core,graph -DWORK_DIR=<dir> -P check_headers.cmake
+#   cmake -DCXX=<compiler> -DINCLUDE=<repo>/include -DMODULES=core,graph [-DEXTRA_INCLUDES=dir,dir]
+#         [-DDEFINES=NAME=1,...] [-DSKIP=fabsynth/io/x.hpp,...] -DWORK_DIR=<dir> -P check_headers.cmake
+# (a module's umbrella header fabsynth/<module>.hpp and its sub-folders are checked with it; detail/
+# headers are not public)
+cmake_policy(VERSION 3.21)
 string(REPLACE "," ";" _modules "${MODULES}")
+set(_extra "")
+if(EXTRA_INCLUDES)
+  string(REPLACE "," ";" _dirs "${EXTRA_INCLUDES}")
+  foreach(_d IN LISTS _dirs)
+    list(APPEND _extra -isystem ${_d})
+  endforeach()
+endif()
+string(REPLACE "," ";" _defines "${DEFINES}")
+list(TRANSFORM _defines PREPEND -D)
+string(REPLACE "," ";" _skip "${SKIP}")
 set(_headers "")
 foreach(_m IN LISTS _modules)
-  file(GLOB _h ${INCLUDE}/fabsynth/${_m}/*.hpp)
+  file(GLOB_RECURSE _h ${INCLUDE}/fabsynth/${_m}/*.hpp)
+  list(FILTER _h EXCLUDE REGEX "/detail/")
   list(APPEND _headers ${_h})
   if(EXISTS ${INCLUDE}/fabsynth/${_m}.hpp)
     list(APPEND _headers ${INCLUDE}/fabsynth/${_m}.hpp)
@@ -14,9 +29,12 @@ file(MAKE_DIRECTORY ${WORK_DIR})
 set(_failed 0)
 foreach(_h IN LISTS _headers)
   file(RELATIVE_PATH _rel ${INCLUDE} ${_h})
+  if(_rel IN_LIST _skip)
+    continue()
+  endif()
   string(MAKE_C_IDENTIFIER ${_rel} _id)
   file(WRITE ${WORK_DIR}/${_id}.cpp "#include \"${_rel}\"\n")
-  execute_process(COMMAND ${CXX} -std=c++20 -fsyntax-only -Wall -Wextra -Wpedantic -I${INCLUDE} ${WORK_DIR}/${_id}.cpp
+  execute_process(COMMAND ${CXX} -std=c++20 -fsyntax-only -Wall -Wextra -Wpedantic -I${INCLUDE} ${_extra} ${_defines} ${WORK_DIR}/${_id}.cpp
                   RESULT_VARIABLE _rc OUTPUT_VARIABLE _out ERROR_VARIABLE _out)
   if(NOT _rc EQUAL 0 OR NOT _out STREQUAL "")
     message(SEND_ERROR "${_rel} does not compile cleanly on its own:\n${_out}")

@@ -235,9 +235,9 @@ TEST_CASE("atomic_write replaces the target and leaves no temporary behind", "[i
     const auto dir = io_test::tmp_dir() / "atomic";
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
-    io::detail::atomic_write(dir / "a.txt", "first");
-    io::detail::atomic_write(dir / "a.txt", "second, longer");
+    io::atomic_write(dir / "a.txt", "first");
+    io::atomic_write(dir / "a.txt", "second, longer");
     CHECK(io_test::slurp(dir / "a.txt") == "second, longer");
-    CHECK_THROWS_AS(io::detail::atomic_write(dir, "x"), io_error);  // the directory itself
+    CHECK_THROWS_AS(io::atomic_write(dir, "x"), io_error);  // the directory itself
     CHECK(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()) == 1);
 }

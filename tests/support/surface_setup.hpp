@@ -4,9 +4,9 @@
 
 #include <utility>
 
-#include "fabsynth/filigree/surface_field.hpp"
-#include "fabsynth/filigree/surface_space.hpp"
-#include "fabsynth/geometry/exponential_map.hpp"
+#include "fabsynth/filigree/surface/field.hpp"
+#include "fabsynth/filigree/surface/space.hpp"
+#include "fabsynth/surface/exponential_map.hpp"
 
 namespace fabsynth::test {
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file connection.hpp  SMOOTHCONNECTION of Algorithm 1 for a pattern (filigree-synthesis.md
-/// §4.3.2): an instance is deformed (deformation.hpp: bicubic Bezier FFD, eqs. 10-14) into tangent
+/// §4.3.2): an instance is deformed (ffd.hpp: bicubic Bezier FFD, eqs. 10-14; contact.hpp: where to touch) into tangent
 /// contact with one neighbour where the two skeletons cross twice close together or pass at a
 /// narrow gap (Fig. 6), keeping its contacts with its other neighbours fixed.
 ///
@@ -30,7 +30,7 @@
 
 #include "fabsynth/core/box.hpp"
 
-#include "fabsynth/filigree/deformation.hpp"
+#include "fabsynth/filigree/contact.hpp"
 #include "fabsynth/filigree/placement.hpp"
 
 namespace fabsynth::filigree {

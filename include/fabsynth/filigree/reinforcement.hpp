@@ -23,7 +23,10 @@
 #include <chrono>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
@@ -43,13 +46,12 @@ struct reinforcement_options {
     int max_insertion_rounds = 3;
     int resynthesis_rounds = 2;          ///< rounds of placement + boosting after an insertion
     double mesh_edge = 0.0;              ///< FEM mesh edge length, mm; 0 = 0.6 x the median strip width
-    std::uint64_t seed = 1;
+    // The re-syntheses of phase 1 take their seeds from the synthesis options' (seed + 1000 x round).
 };
 
-struct reinforcement_result {
-    std::vector<instance> instances;
-    std::vector<polygon_with_holes> outline;  ///< the printable piece (mm), one polygon with holes
-    std::size_t components = 0;               ///< connected pieces of the final outline (1)
+/// The record of §5 that both forms (planar: reinforce; on a surface: reinforce_on_surface) keep:
+/// the piece's bookkeeping, the analyses before and after, and what each phase did.
+struct structural_record {
     std::size_t pieces_dropped = 0;           ///< pieces removed because they were not attached to the largest
     double dropped_area_fraction = 0;         ///< their area / the area of all pieces
     double thickness = 0;                     ///< final, mm
@@ -65,6 +67,62 @@ struct reinforcement_result {
     std::string solver;
     double seconds = 0;
 };
+
+/// What reinforce produced in a planar domain.
+struct reinforcement_result : structural_record {
+    std::vector<instance> instances;
+    std::vector<polygon_with_holes> outline;  ///< the printable piece (mm), one polygon with holes
+    std::size_t components = 0;               ///< connected pieces of the final outline (1)
+};
+
+/// The two phases of §5, once for both forms (see the file comment). `layout` is the form's
+/// current candidate (its instances, its printable piece and the FEM model of that piece); the
+/// callables know what it holds:
+///   analyse(layout, thickness mm)            -> structural_report of the piece at that thickness;
+///   grow(layout, report, round, added&)       -> the re-synthesized layout with `added` elements
+///                                               inserted at the weak regions (nullopt when none was);
+///   thicken(layout, thickness mm)             -> phase 2's thickening_result.
+/// Phase 1 keeps a round only if it lowers the weak fraction (else the previous layout stays and
+/// the phase ends). Fills r's analyses and phases (not fem_nodes, which each form counts);
+/// throws solver_error when weak nodes remain after thickening.
+template <class Layout, class Analyse, class Grow, class Thicken>
+void reinforcement_loop(Layout& layout, structural_record& r, const reinforcement_options& opt, Analyse&& analyse, Grow&& grow,
+                        Thicken&& thicken) {
+    structural_report rep = analyse(layout, r.thickness);
+    r.analysed = true;
+    r.histogram_before = rep.histogram;
+    r.max_von_mises_before = rep.max_von_mises;
+    r.weak_fraction_phase1.push_back(rep.weak_fraction);
+    // Phase 1: new elements where the piece is weak, then re-synthesis.
+    for (int round = 0; round < opt.max_insertion_rounds && rep.weak_fraction > opt.weak_limit; ++round) {
+        std::size_t added = 0;
+        std::optional<Layout> next = grow(std::as_const(layout), std::as_const(rep), round, added);
+        r.inserted_per_round.push_back(added);
+        if (!next) break;
+        structural_report rep2 = analyse(*next, r.thickness);
+        r.weak_fraction_phase1.push_back(rep2.weak_fraction);
+        if (rep2.weak_fraction >= rep.weak_fraction) break;  // no better: keep the previous layout
+        layout = std::move(*next);
+        rep = std::move(rep2);
+    }
+    // Phase 2: +10% thickness per iteration until no node is weak.
+    const thickening_result th = thicken(std::as_const(layout), r.thickness);
+    if (!th.converged) throw solver_error("filigree: weak nodes remain after thickening to " + std::to_string(th.thickness) + " mm");
+    r.thickness = th.thickness;
+    r.thickness_phase2 = th.thickness_history;
+    r.weak_fraction_phase2 = th.weak_fraction_history;
+    r.histogram_after = th.report.histogram;
+    r.max_von_mises_after = th.report.max_von_mises;
+    r.solver = th.report.solver;
+}
+
+/// The class inserted by phase 1: the one of largest weight (the first on ties).
+[[nodiscard]] inline std::uint32_t reinforcement_class(std::span<const double> weights) {
+    std::uint32_t cls = 0;
+    for (std::uint32_t c = 1; c < weights.size(); ++c)
+        if (weights[c] > weights[cls]) cls = c;
+    return cls;
+}
 
 namespace detail::reinforce {
 
@@ -121,49 +179,42 @@ template <control_field F>
         sopt.pressure_pa = opt.pressure_pa;
         r.yield_mpa = sopt.material.yield_mpa;
         r.histogram_bin_mpa = sopt.histogram_bin_mpa;
-        fem_triangulation tri = make_fem_triangulation(coarsened_outline(r.outline, 0.25 * h), h);
-        structural_report rep = analyse_structure(tri, r.thickness, sopt);
-        r.analysed = true;
-        r.histogram_before = rep.histogram;
-        r.max_von_mises_before = rep.max_von_mises;
-        r.weak_fraction_phase1.push_back(rep.weak_fraction);
-        // Phase 1: new elements where the piece is weak, then re-synthesis.
-        std::uint32_t cls = 0;
-        for (std::uint32_t c = 1; c < classes.size(); ++c)
-            if (weights[c] > weights[cls]) cls = c;
-        for (int round = 0; round < opt.max_insertion_rounds && rep.weak_fraction > opt.weak_limit; ++round) {
-            std::vector<instance> in = r.instances;
-            std::size_t added = 0;
-            for (const vec2& c : weak_region_centres(rep, 0.5 * classes[cls].size))
-                if (domain.contains(c)) in.push_back(make_instance(classes, cls, c, field)), ++added;
-            r.inserted_per_round.push_back(added);
-            if (added == 0) break;
-            pattern_state s(classes, std::move(in), any_field(field), domain, so.gamma_boundary);
-            synthesis_options again = so;
-            again.max_rounds = opt.resynthesis_rounds;
-            again.seed = so.seed + 1000 * static_cast<std::uint64_t>(round + 1);
-            synthesis_result res;
-            optimize_pattern(s, again, res);
+        struct layout {
+            std::vector<instance> instances;
+            std::vector<polygon_with_holes> outline;
             std::size_t dropped = 0;
             double dropped_fraction = 0;
-            auto outline = dr::one_piece(res.skeletons, domain, dropped, dropped_fraction);
-            fem_triangulation t2 = make_fem_triangulation(coarsened_outline(outline, 0.25 * h), h);
-            structural_report rep2 = analyse_structure(t2, r.thickness, sopt);
-            r.weak_fraction_phase1.push_back(rep2.weak_fraction);
-            if (rep2.weak_fraction >= rep.weak_fraction) break;  // no better: keep the previous layout
-            r.instances = res.instances, r.outline = std::move(outline), r.pieces_dropped = dropped, r.dropped_area_fraction = dropped_fraction;
-            tri = std::move(t2), rep = std::move(rep2);
-        }
-        // Phase 2: +10% thickness per iteration until no node is weak.
-        const thickening_result th = thicken_until_strong(tri, r.thickness, sopt);
-        if (!th.converged) throw solver_error("filigree: weak nodes remain after thickening to " + std::to_string(th.thickness) + " mm");
-        r.thickness = th.thickness;
-        r.thickness_phase2 = th.thickness_history;
-        r.weak_fraction_phase2 = th.weak_fraction_history;
-        r.histogram_after = th.report.histogram;
-        r.max_von_mises_after = th.report.max_von_mises;
-        r.fem_nodes = th.report.node_positions.size();
-        r.solver = th.report.solver;
+            fem_triangulation tri;
+        };
+        layout best{r.instances, r.outline, r.pieces_dropped, r.dropped_area_fraction,
+                    make_fem_triangulation(coarsened_outline(r.outline, 0.25 * h), h)};
+        const std::uint32_t cls = reinforcement_class(weights);
+        reinforcement_loop(
+            best, r, opt, [&](const layout& l, double t) { return analyse_structure(l.tri, t, sopt); },
+            [&](const layout& l, const structural_report& rep, int round, std::size_t& added) -> std::optional<layout> {
+                std::vector<instance> in = l.instances;
+                for (const vec2& c : weak_region_centres(rep, 0.5 * classes[cls].size))
+                    if (domain.contains(c)) in.push_back(make_instance(classes, cls, c, field)), ++added;
+                if (added == 0) return std::nullopt;
+                pattern_state s(classes, std::move(in), any_field(field), domain, so.gamma_boundary);
+                synthesis_options again = so;
+                again.max_rounds = opt.resynthesis_rounds;
+                again.seed = so.seed + 1000 * static_cast<std::uint64_t>(round + 1);
+                synthesis_result res;
+                optimize_pattern(s, again, res);
+                layout next;
+                next.outline = dr::one_piece(res.skeletons, domain, next.dropped, next.dropped_fraction);
+                next.tri = make_fem_triangulation(coarsened_outline(next.outline, 0.25 * h), h);
+                next.instances = std::move(res.instances);
+                return next;
+            },
+            [&](const layout& l, double t) {
+                thickening_result th = thicken_until_strong(l.tri, t, sopt);
+                r.fem_nodes = th.report.node_positions.size();
+                return th;
+            });
+        r.instances = std::move(best.instances), r.outline = std::move(best.outline);
+        r.pieces_dropped = best.dropped, r.dropped_area_fraction = best.dropped_fraction;
     }
     r.components = r.outline.size();
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -62,7 +62,6 @@
 #include <limits>
 #include <map>
 #include <optional>
-#include <queue>
 #include <span>
 #include <string>
 #include <tuple>
@@ -77,6 +76,7 @@
 #include "fabsynth/geometry/polygon.hpp"
 #include "fabsynth/geometry/rigid_motion.hpp"
 #include "fabsynth/geometry/segment.hpp"
+#include "fabsynth/graph/shortest_paths.hpp"
 #include "fabsynth/graph/skeleton_graph.hpp"
 
 namespace fabsynth::filigree {
@@ -533,42 +533,23 @@ struct pair_crossings {
 
 // ---- phase 2: clusters of close crossings ---------------------------------------------------
 
-/// Geodesic distances along a skeleton from one vertex to the vertices closer than a radius
-/// (Dijkstra stopped at the radius). The distance array is reset only where the last run wrote.
+/// Geodesic distances along a skeleton from one vertex to the vertices closer than a radius:
+/// graph/shortest_paths.hpp's bounded_search over the skeleton's incidence lists.
 class bounded_search {
 public:
-    explicit bounded_search(const skeleton& g) : g_(&g), distance_(g.num_vertices(), infinity) {}
+    explicit bounded_search(const skeleton& g) : g_(&g), search_(g.num_vertices()) {}
 
     /// Calls found(v) for every vertex v whose geodesic distance from `source` is < radius (mm).
     template <class Found>
     void run(vertex_id source, double radius, Found&& found) {
-        for (const vertex_id v : touched_) distance_[v] = infinity;
-        touched_.clear();
-        using entry = std::pair<double, vertex_id>;
-        std::priority_queue<entry, std::vector<entry>, std::greater<entry>> heap;
-        distance_[source] = 0.0;
-        touched_.push_back(source);
-        heap.push({0.0, source});
-        while (!heap.empty()) {
-            const auto [d, v] = heap.top();
-            heap.pop();
-            if (d > distance_[v]) continue;
-            found(v);
-            for (const edge_id e : g_->incident(v)) {
-                const vertex_id w = g_->other(e, v);
-                const double dw = d + g_->length(e);
-                if (!(dw < radius) || !(dw < distance_[w])) continue;
-                if (distance_[w] == infinity) touched_.push_back(w);
-                distance_[w] = dw;
-                heap.push({dw, w});
-            }
-        }
+        search_.run(source, radius, [this](vertex_id v, auto&& visit) {
+            for (const edge_id e : g_->incident(v)) visit(g_->other(e, v), g_->length(e));
+        }, std::forward<Found>(found));
     }
 
 private:
     const skeleton* g_;
-    std::vector<double> distance_;
-    std::vector<vertex_id> touched_;
+    graph::bounded_search search_;
 };
 
 /// Phase 2: cluster label (smallest site of the cluster) and cluster size per site; sites i, j
@@ -843,7 +824,7 @@ inline topology_cut_report topology_cut(std::vector<graph::skeleton_graph<vec2>>
 }
 
 /// The same cut for instances whose skeletons are each given in a frame of their own (the local
-/// parameterizations of a surface, filigree/surface_topology_cut.hpp): the crossings of a pair
+/// parameterizations of a surface, filigree/surface/topology_cut.hpp): the crossings of a pair
 /// (P, Q) are found with Q moved into P's frame by frames.pose(P, Q) (a pair without a pose is
 /// skipped), and two instances a < b touch when their strips touch in a's frame. Lengths, and so
 /// the clusters, importances and protrusions, do not depend on the frame. New vertices of Q are

@@ -129,7 +129,9 @@ template <elasticity_model Model>
                             std::to_string(fitted::tau_min) + ", " + std::to_string(fitted::tau_max) +
                             "] mm the shipped elasticity fit was sampled on (re-run examples/foam_fit for other radii)");
     const elasticity_polynomial P = fitted_elasticity();
-    const auto [lo, hi] = fitted_density_range(tau_min);
+    // not a structured binding: clang 14 cannot capture one in a lambda
+    const auto band = fitted_density_range(tau_min);
+    const double lo = band.first, hi = band.second;
     // inverse_elasticity bisects on [rho_min, full-block bound]; restrict the model to the band by
     // holding it constant above hi, then pull the answer back into the band.
     const auto banded = [&](double rho, double tau) { return P(std::min(rho, hi), tau); };

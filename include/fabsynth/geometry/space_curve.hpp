@@ -97,7 +97,7 @@ public:
 
     /// Polyline through `points` whose binormal (the band's thickness direction w) follows the
     /// given unit `up` directions, one per point (a surface normal for a curve on a surface,
-    /// geometry/surface_curve.hpp): segment k's normal at vertex i is up_i x t_k normalised, so
+    /// surface/curve.hpp): segment k's normal at vertex i is up_i x t_k normalised, so
     /// the band (v) lies in the plane normal to up_i. Point preprocessing and errors as polyline();
     /// also invalid_input if the counts differ or an up direction is not finite, zero or along a
     /// tangent at its vertex. No twist is added.

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file shortest_paths.hpp  Multi-source shortest-path forests (Dijkstra), their extension to a
-/// larger vertex set, paths to the roots, and geodesic distances with early exit.
+/// larger vertex set, paths to the roots, geodesic distances with early exit, and repeated
+/// searches bounded by a radius (bounded_search).
 ///
 /// Usage (structurally-sound-patterns.md Algorithm 5, steps 1 and 3):
 ///   auto forest = fabsynth::graph::dijkstra_forest(g_surface, samples, solid_mask);   // in G_solid
@@ -32,6 +33,7 @@
 #include <queue>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
@@ -201,5 +203,62 @@ template <class P>
     std::reverse(r.vertices.begin(), r.vertices.end());
     return r;
 }
+
+/// Geodesic distances from one vertex to the vertices closer than a radius (Dijkstra stopped at
+/// the radius), run many times over one graph: the distance array is reset only where the last
+/// run wrote, so a run costs O(k log k) for the k vertices it reaches, not O(V).
+/// The graph is any adjacency given by a callable: neighbours(v, visit) calls visit(w, length)
+/// for every neighbour w of v (length finite, >= 0), so graphs other than csr_graph (the filigree
+/// skeletons) use it as they are. Vertices are reported in increasing distance (ties by the heap:
+/// deterministic for one input).
+///   graph::bounded_search near(n);
+///   near.run(source, 2.5, [&](vertex_id v, auto&& visit) { for (...) visit(w, len); }, [&](vertex_id v) { ... });
+class bounded_search {
+public:
+    explicit bounded_search(std::size_t vertices) : distance_(vertices, std::numeric_limits<double>::infinity()) {}
+
+    /// Calls found(v) for every vertex v whose geodesic distance from `source` is < radius.
+    template <class Neighbours, class Found>
+    void run(vertex_id source, double radius, Neighbours&& neighbours, Found&& found) {
+        constexpr double infinity = std::numeric_limits<double>::infinity();
+        if (source >= distance_.size())
+            throw invalid_input("bounded_search: vertex " + std::to_string(source) + " is out of range for " + std::to_string(distance_.size()) +
+                                " vertices");
+        for (const vertex_id v : touched_) distance_[v] = infinity;
+        touched_.clear();
+        using entry = std::pair<double, vertex_id>;
+        std::priority_queue<entry, std::vector<entry>, std::greater<entry>> heap;
+        distance_[source] = 0.0;
+        touched_.push_back(source);
+        heap.push({0.0, source});
+        while (!heap.empty()) {
+            // not a structured binding: clang 14 cannot capture one in the lambda below
+            const double d = heap.top().first;
+            const vertex_id v = heap.top().second;
+            heap.pop();
+            if (d > distance_[v]) continue;
+            found(v);
+            neighbours(v, [&](vertex_id w, double length) {
+                const double dw = d + length;
+                if (!(dw < radius) || !(dw < distance_[w])) return;
+                if (distance_[w] == infinity) touched_.push_back(w);
+                distance_[w] = dw;
+                heap.push({dw, w});
+            });
+        }
+    }
+
+    /// The same over a csr_graph (its weights are the lengths).
+    template <class P, class Found>
+    void run(const csr_graph<P>& g, vertex_id source, double radius, Found&& found) {
+        run(source, radius, [&](vertex_id v, auto&& visit) {
+            for (arc_id e = g.edge_begin(v); e < g.edge_end(v); ++e) visit(g.target(e), g.weight(e));
+        }, std::forward<Found>(found));
+    }
+
+private:
+    std::vector<double> distance_;
+    std::vector<vertex_id> touched_;
+};
 
 }  // namespace fabsynth::graph

@@ -42,7 +42,7 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/image.hpp"
 #include "fabsynth/core/types.hpp"
-#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/atomic_file.hpp"
 #include "fabsynth/io/detail/binary.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
 #include "fabsynth/io/detail/text.hpp"
@@ -283,11 +283,11 @@ inline std::string format_png(const image16& img, const png_options& opt = {}, s
 /// write_png("slice.png", img, {.pixel_mm = 0.05}). Throws invalid_input for an empty or
 /// inconsistent image or a bad pixel size, io_error if writing fails.
 inline void write_png(const std::filesystem::path& path, const image8& img, const png_options& opt = {}) {
-    detail::atomic_write(path, detail::encode_png(img, opt, path.string()));
+    atomic_write(path, detail::encode_png(img, opt, path.string()));
 }
 /// Writes a 16-bit image with 1..4 channels as a 16-bit PNG (atomically); see above.
 inline void write_png(const std::filesystem::path& path, const image16& img, const png_options& opt = {}) {
-    detail::atomic_write(path, detail::encode_png(img, opt, path.string()));
+    atomic_write(path, detail::encode_png(img, opt, path.string()));
 }
 
 // ---------------------------------------------------------------------------------------- PGM
@@ -379,11 +379,11 @@ inline image16 read_pgm16(const std::filesystem::path& path) { return parse_pgm1
 
 /// Writes a 1-channel image as PGM: P5 (binary, default) or P2, maxval 255. Atomic.
 inline void write_pgm(const std::filesystem::path& path, const image8& img, encoding enc = encoding::binary) {
-    detail::atomic_write(path, detail::format_pgm_as(img, enc, path.string()));
+    atomic_write(path, detail::format_pgm_as(img, enc, path.string()));
 }
 /// Writes a 1-channel 16-bit image as PGM with maxval 65535 (P5 stores big-endian 16-bit samples).
 inline void write_pgm(const std::filesystem::path& path, const image16& img, encoding enc = encoding::binary) {
-    detail::atomic_write(path, detail::format_pgm_as(img, enc, path.string()));
+    atomic_write(path, detail::format_pgm_as(img, enc, path.string()));
 }
 
 }  // namespace fabsynth::io

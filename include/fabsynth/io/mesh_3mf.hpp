@@ -10,7 +10,7 @@
 /// prints them cut to 6 decimals, so a position reads back within 1e-6 units (+ float rounding)
 /// of float(x): 1 nm in millimetres, far below any printer's resolution. The same mesh and options give the same bytes: the UUIDs the
 /// production extension asks for are derived from the content, not drawn at random. The file is
-/// built in memory and written atomically (io/detail/atomic_file.hpp). Refused with
+/// built in memory and written atomically (io/atomic_file.hpp). Refused with
 /// invalid_input: a mesh without faces, non-finite or non-float coordinates, face indices out of
 /// range, triangles that repeat a vertex (3MF forbids them).
 ///
@@ -42,7 +42,7 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/rng.hpp"
 #include "fabsynth/geometry/mesh.hpp"
-#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/atomic_file.hpp"
 #include "fabsynth/io/detail/lib3mf_api.hpp"
 #include "fabsynth/io/detail/mesh_check.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
@@ -202,7 +202,7 @@ inline std::string format_3mf(const triangle_mesh& m, const mesh_3mf_options& op
 /// (millimetres by default). Throws invalid_input for a mesh 3MF cannot hold (see file comment),
 /// io_error if lib3mf or the file system fails.
 inline void write_3mf(const std::filesystem::path& path, const triangle_mesh& m, const mesh_3mf_options& opt = {}) {
-    detail::atomic_write(path, format_3mf(m, opt, path.string()));
+    atomic_write(path, format_3mf(m, opt, path.string()));
 }
 
 /// Parses 3MF bytes into one triangle mesh in millimetres (see file comment); `name` prefixes

@@ -24,7 +24,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/geometry/mesh.hpp"
-#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/atomic_file.hpp"
 #include "fabsynth/io/detail/mesh_check.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
 #include "fabsynth/io/detail/text.hpp"
@@ -135,7 +135,7 @@ inline std::string format_obj(const triangle_mesh& m) {
 /// Throws invalid_input for non-finite vertices or bad indices, io_error if writing fails.
 inline void write_obj(const std::filesystem::path& path, const triangle_mesh& m) {
     detail::check_mesh_for_writing(m, path.string());
-    detail::atomic_write(path, format_obj(m));
+    atomic_write(path, format_obj(m));
 }
 
 }  // namespace fabsynth::io

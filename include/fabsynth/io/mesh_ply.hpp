@@ -28,7 +28,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/geometry/mesh.hpp"
-#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/atomic_file.hpp"
 #include "fabsynth/io/detail/binary.hpp"
 #include "fabsynth/io/detail/mesh_check.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
@@ -369,7 +369,7 @@ inline std::string format_ply(const triangle_mesh& m, encoding enc = encoding::b
 inline void write_ply(const std::filesystem::path& path, const triangle_mesh& m, encoding enc = encoding::binary) {
     detail::check_mesh_for_writing(m, path.string());
     if (enc == encoding::binary) detail::check_fits_float(m, path.string(), "binary PLY");
-    detail::atomic_write(path, format_ply(m, enc));
+    atomic_write(path, format_ply(m, enc));
 }
 
 }  // namespace fabsynth::io

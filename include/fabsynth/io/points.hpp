@@ -19,7 +19,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
-#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/atomic_file.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
 
 namespace fabsynth::io {
@@ -81,7 +81,7 @@ namespace fabsynth::io {
 
 /// Writes format_points_csv(pts) atomically (temporary file + rename).
 inline void write_points_csv(const std::filesystem::path& path, const std::vector<vec3>& pts) {
-    detail::atomic_write(path, format_points_csv(pts));
+    atomic_write(path, format_points_csv(pts));
 }
 
 }  // namespace fabsynth::io

@@ -53,7 +53,7 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/polygon.hpp"
-#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/atomic_file.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
 #include "fabsynth/io/detail/svg_path.hpp"
 #include "fabsynth/io/detail/svg_scan.hpp"
@@ -565,7 +565,7 @@ inline void append_escaped(std::string& out, std::string_view s) {
 /// Writes the document as SVG (see to_svg_string). Throws invalid_input for a bad document and
 /// io_error if the file cannot be written.
 inline void write_svg(const std::filesystem::path& path, const svg_document& doc) {
-    detail::atomic_write(path, to_svg_string(doc));
+    atomic_write(path, to_svg_string(doc));
 }
 
 }  // namespace fabsynth::io

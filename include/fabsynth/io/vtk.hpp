@@ -38,7 +38,7 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/mesh.hpp"
-#include "fabsynth/io/detail/atomic_file.hpp"
+#include "fabsynth/io/atomic_file.hpp"
 #include "fabsynth/io/detail/binary.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
 #include "fabsynth/io/detail/text.hpp"
@@ -312,7 +312,7 @@ inline void write_vtk(const std::filesystem::path& path, const triangle_mesh& m,
     if (o.binary()) o.end_block();
     detail::write_vtk_fields(o, "CELL_DATA", m.faces.size(), cell_fields);
     detail::write_vtk_fields(o, "POINT_DATA", m.vertices.size(), point_fields);
-    detail::atomic_write(path, o.str());
+    atomic_write(path, o.str());
 }
 
 /// Writes an UNSTRUCTURED_GRID: points (mm), cells (VTK type + node ids), optional per-point and
@@ -357,7 +357,7 @@ inline void write_vtk_unstructured(const std::filesystem::path& path, const std:
     if (o.binary()) o.end_block();
     detail::write_vtk_fields(o, "CELL_DATA", cells.size(), cell_fields);
     detail::write_vtk_fields(o, "POINT_DATA", points.size(), point_fields);
-    detail::atomic_write(path, o.str());
+    atomic_write(path, o.str());
 }
 
 /// VTK bytes of a regular grid (see structured_points); `name` is used in error messages.
@@ -388,7 +388,7 @@ inline std::string format_vtk(const structured_points& g, encoding enc = encodin
 
 /// Writes a regular grid as VTK STRUCTURED_POINTS (binary by default). Atomic.
 inline void write_vtk(const std::filesystem::path& path, const structured_points& g, encoding enc = encoding::binary) {
-    detail::atomic_write(path, format_vtk(g, enc, path.string()));
+    atomic_write(path, format_vtk(g, enc, path.string()));
 }
 
 namespace detail {

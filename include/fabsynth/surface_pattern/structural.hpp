@@ -518,8 +518,10 @@ structure_report optimize_structure(const synthesizer& syn, synthesis_result& r,
         }
         if (it == max_iterations) break;  // keep the last bridges, no resynthesis after them
         const auto tr = clock::now();
-        report_progress(progress, base + 0.5 / max_iterations, "iteration " + std::to_string(it) + ": resynthesis");
-        rep.resyntheses.push_back(syn.resynthesize(r, all_forced, allowed, r_pattern_voxels, static_cast<std::uint64_t>(it)));
+        auto resub = [&](double f, std::string_view stage) {
+            report_progress(progress, base + (0.5 + 0.5 * f) / max_iterations, "iteration " + std::to_string(it) + ": " + std::string(stage));
+        };
+        rep.resyntheses.push_back(syn.resynthesize(r, all_forced, allowed, r_pattern_voxels, static_cast<std::uint64_t>(it), resub));
         rep.resynthesis_seconds += std::chrono::duration<double>(clock::now() - tr).count();
     }
     rep.forced_voxels = static_cast<std::size_t>(std::count(all_forced.begin(), all_forced.end(), std::uint8_t{1}));

@@ -35,6 +35,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -273,11 +274,12 @@ private:
     /// forced voxels (forced[v]) restricted to solid-mapping labels. Returns candidates evaluated.
     template <int C>
     std::uint64_t optimize_pass(int level, std::vector<std::uint32_t>& labels, level_energy<C>& en, std::span<const std::uint8_t> active,
-                                std::span<const std::uint8_t> forced, std::uint64_t round, int pass) const {
+                                std::span<const std::uint8_t> forced, std::uint64_t round, int pass, const std::function<void()>& tick) const {
         const shell_level& l = lv(level);
         const shell_neighbourhood& nb = nbs_[static_cast<std::size_t>(level)];
         std::atomic<std::uint64_t> evaluated{0};
         for (const std::vector<std::uint32_t>& all : classes_[static_cast<std::size_t>(level)]) {
+            if (tick) tick();  // between sub-pass classes: a cancelling progress callback stops here
             std::vector<std::uint32_t> subset;
             const std::vector<std::uint32_t>* list = &all;
             if (!active.empty()) {
@@ -355,11 +357,11 @@ private:
 
     template <int C>
     void optimize_level(int level, std::vector<std::uint32_t>& labels, level_report& rep, std::span<const std::uint8_t> active,
-                        std::span<const std::uint8_t> forced, std::uint64_t round) const {
+                        std::span<const std::uint8_t> forced, std::uint64_t round, const std::function<void()>& tick) const {
         level_energy<C> en(lv(level), nbs_[static_cast<std::size_t>(level)], labels_, ex_, level, opt_.energy, labels);
         rep.energy_initial = en.total();
         for (int pass = 0; pass < opt_.passes; ++pass) {
-            rep.candidates += optimize_pass<C>(level, labels, en, active, forced, round, pass);
+            rep.candidates += optimize_pass<C>(level, labels, en, active, forced, round, pass, tick);
             rep.energy_passes.push_back(en.total());
         }
     }
@@ -399,7 +401,10 @@ private:
             }, {.grain = 1024});
             level_report& rep = r.levels[static_cast<std::size_t>(level)];
             rep = start_report(level);
-            optimize_level<C>(level, labels, rep, {}, {}, 0);  // OPTIMIZE
+            // OPTIMIZE; the progress callback is asked again between the 27 sub-pass classes of each
+            // pass (a few per second on the finest level at 256^3), so a cancel takes effect quickly
+            const std::string stage = "synthesis level " + std::to_string(level);
+            optimize_level<C>(level, labels, rep, {}, {}, 0, [&] { report_progress(progress, work_done / work_total, stage); });
             rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tl).count();
             work_done += static_cast<double>(l.size());
         }
@@ -466,7 +471,9 @@ private:
             level_report& lr = rep.levels[static_cast<std::size_t>(l)];
             lr = start_report(l);
             lr.voxels = count;
-            if (count) optimize_level<C>(l, labels, lr, reg, forced[static_cast<std::size_t>(l)], round);
+            const std::string stage = "resynthesis level " + std::to_string(l);
+            const double at = static_cast<double>(Lr - l) / (Lr + 1);
+            if (count) optimize_level<C>(l, labels, lr, reg, forced[static_cast<std::size_t>(l)], round, [&] { report_progress(progress, at, stage); });
             lr.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tl).count();
         }
         r.solid = states(0, r.labels[0]);

@@ -352,7 +352,9 @@ private:
             piece_side side;
         };
         std::vector<run> runs;
-        for (const auto& [xs, side] : {std::pair{p.x0, piece_side::left}, std::pair{x1_, piece_side::right}}) {
+        for (const auto& line : {std::pair{p.x0, piece_side::left}, std::pair{x1_, piece_side::right}}) {
+            const double xs = line.first;  // not a structured binding: clang 14 cannot capture one
+            const piece_side side = line.second;
             auto on = [&](std::size_t i) { return r[i % n].x == xs && r[(i + 1) % n].x == xs; };
             std::size_t start = n;
             for (std::size_t i = 0; i < n && start == n; ++i)

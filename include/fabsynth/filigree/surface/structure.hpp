@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_structure.hpp  Structural optimization of a filigree on a base surface
+/// @file structure.hpp  Structural optimization of a filigree on a base surface
 /// (filigree-synthesis.md §5 on the baked mesh M_b, §6.1: M_b "serves as both the input of stress
 /// analysis and the base mesh for generating a printable mesh").
 ///
@@ -34,6 +34,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -43,8 +44,8 @@
 #include "fabsynth/fem/mesh.hpp"
 #include "fabsynth/filigree/reinforcement.hpp"
 #include "fabsynth/filigree/structure.hpp"
-#include "fabsynth/filigree/surface_reconstruct.hpp"
-#include "fabsynth/filigree/surface_synthesis.hpp"
+#include "fabsynth/filigree/surface/reconstruct.hpp"
+#include "fabsynth/filigree/surface/synthesis.hpp"
 #include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 
@@ -142,28 +143,16 @@ namespace fabsynth::filigree {
 
 /// Options of reinforce_on_surface (as reinforcement_options, plus the up vector).
 struct surface_reinforcement_options {
-    reinforcement_options base;  ///< enabled, material, thickness, pressure, weak_limit, rounds, seed
+    reinforcement_options base;  ///< enabled, material, thickness, pressure, weak_limit, rounds
     vec3 up{0, 0, 1};
 };
 
-/// What reinforce_on_surface produced: the final layout, M_b (its largest piece) and the §5 record.
-struct surface_reinforcement_result {
+/// What reinforce_on_surface produced: the final layout, M_b (its largest piece) and the §5 record
+/// (structural_record, shared with the planar form).
+struct surface_reinforcement_result : structural_record {
     std::vector<surface_instance> instances;
     std::vector<surface_skeleton> skeletons;
     triangle_mesh baked;                   ///< M_b, largest piece
-    std::size_t pieces_dropped = 0;        ///< other pieces of the baked pattern
-    double dropped_area_fraction = 0;      ///< their area / the area of all pieces
-    double thickness = 0;                  ///< final, mm
-    bool analysed = false;
-    std::vector<std::size_t> histogram_before, histogram_after;
-    double histogram_bin_mpa = 5.0, yield_mpa = 0;
-    std::vector<double> weak_fraction_phase1;
-    std::vector<std::size_t> inserted_per_round;
-    std::vector<double> thickness_phase2, weak_fraction_phase2;
-    double max_von_mises_before = 0, max_von_mises_after = 0;
-    std::size_t fem_nodes = 0;
-    std::string solver;
-    double seconds = 0;
 };
 
 namespace detail::surface {
@@ -204,49 +193,45 @@ namespace detail::surface {
         for (const element& e : classes)
             for (const double w : e.widths) narrowest = std::min(narrowest, w);
         const double merge = 0.1 * narrowest;
-        triangle_mesh fem = fem_mesh_of(r.baked, merge);
-        structural_report rep = analyse_surface_structure(fem, r.thickness, opt.up, sopt);
-        r.analysed = true;
-        r.histogram_before = rep.histogram, r.max_von_mises_before = rep.max_von_mises;
-        r.weak_fraction_phase1.push_back(rep.weak_fraction);
-        std::uint32_t cls = 0;
-        for (std::uint32_t c = 1; c < classes.size(); ++c)
-            if (weights[c] > weights[cls]) cls = c;
-        for (int round = 0; round < opt.base.max_insertion_rounds && rep.weak_fraction > opt.base.weak_limit; ++round) {
-            std::vector<surface_instance> in = r.instances;
-            std::size_t added = 0;
-            for (const vec3& c : cluster_centres<vec3>(fem.vertices, rep.weak_nodes, 0.5 * classes[cls].size)) {
-                const surface_point at = ds::nearest_region_point(region, c);
-                in.push_back({instance{cls, {0, 0}, 0, field(at).scale, classes[cls].vertices}, at}), ++added;
-            }
-            r.inserted_per_round.push_back(added);
-            if (added == 0) break;
-            surface_space s(classes, std::move(in), field, region, so.gamma_boundary);
-            synthesis_options again = so;
-            again.max_rounds = opt.base.resynthesis_rounds;
-            again.seed = so.seed + 1000 * static_cast<std::uint64_t>(round + 1);
-            surface_synthesis_result res;
-            optimize_layout(s, again, res);
-            surface_cut_report cut;
-            std::vector<surface_skeleton> sk = surface_skeletons(s, so.topology_cut ? &cut : nullptr);
+        struct layout {
+            std::vector<surface_instance> instances;
+            std::vector<surface_skeleton> skeletons;
+            triangle_mesh baked;
             std::size_t dropped = 0;
             double dropped_fraction = 0;
-            triangle_mesh baked = ds::baked_piece(classes, s.instances(), sk, field, region, dropped, dropped_fraction);
-            triangle_mesh fem2 = fem_mesh_of(baked, merge);
-            structural_report rep2 = analyse_surface_structure(fem2, r.thickness, opt.up, sopt);
-            r.weak_fraction_phase1.push_back(rep2.weak_fraction);
-            if (rep2.weak_fraction >= rep.weak_fraction) break;  // no better: keep the previous layout
-            r.instances = s.instances(), r.skeletons = std::move(sk), r.baked = std::move(baked);
-            r.pieces_dropped = dropped, r.dropped_area_fraction = dropped_fraction, rep = std::move(rep2), fem = std::move(fem2);
-        }
-        const thickening_result th =
-            thicken_with([&](double t) { return analyse_surface_structure(fem, t, opt.up, sopt); }, r.thickness, thickening_options{});
-        if (!th.converged) throw solver_error("filigree: weak nodes remain after thickening to " + std::to_string(th.thickness) + " mm");
-        r.thickness = th.thickness;
-        r.thickness_phase2 = th.thickness_history, r.weak_fraction_phase2 = th.weak_fraction_history;
-        r.histogram_after = th.report.histogram, r.max_von_mises_after = th.report.max_von_mises;
-        r.fem_nodes = fem.vertices.size();
-        r.solver = th.report.solver;
+            triangle_mesh fem;
+        };
+        layout best{r.instances, r.skeletons, r.baked, r.pieces_dropped, r.dropped_area_fraction, fem_mesh_of(r.baked, merge)};
+        const std::uint32_t cls = reinforcement_class(weights);
+        reinforcement_loop(
+            best, r, opt.base, [&](const layout& l, double t) { return analyse_surface_structure(l.fem, t, opt.up, sopt); },
+            [&](const layout& l, const structural_report& rep, int round, std::size_t& added) -> std::optional<layout> {
+                std::vector<surface_instance> in = l.instances;
+                for (const vec3& c : cluster_centres<vec3>(l.fem.vertices, rep.weak_nodes, 0.5 * classes[cls].size)) {
+                    const surface_point at = ds::nearest_region_point(region, c);
+                    in.push_back({instance{cls, {0, 0}, 0, field(at).scale, classes[cls].vertices}, at}), ++added;
+                }
+                if (added == 0) return std::nullopt;
+                surface_space s(classes, std::move(in), field, region, so.gamma_boundary);
+                synthesis_options again = so;
+                again.max_rounds = opt.base.resynthesis_rounds;
+                again.seed = so.seed + 1000 * static_cast<std::uint64_t>(round + 1);
+                surface_synthesis_result res;
+                optimize_layout(s, again, res);
+                surface_cut_report cut;
+                layout next;
+                next.skeletons = surface_skeletons(s, so.topology_cut ? &cut : nullptr);
+                next.baked = ds::baked_piece(classes, s.instances(), next.skeletons, field, region, next.dropped, next.dropped_fraction);
+                next.fem = fem_mesh_of(next.baked, merge);
+                next.instances = s.instances();
+                return next;
+            },
+            [&](const layout& l, double t) {
+                return thicken_with([&](double tt) { return analyse_surface_structure(l.fem, tt, opt.up, sopt); }, t, thickening_options{});
+            });
+        r.instances = std::move(best.instances), r.skeletons = std::move(best.skeletons), r.baked = std::move(best.baked);
+        r.pieces_dropped = best.dropped, r.dropped_area_fraction = best.dropped_fraction;
+        r.fem_nodes = best.fem.vertices.size();
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;

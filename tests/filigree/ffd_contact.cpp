@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Tests of filigree/deformation.hpp: the free-form deformation of §8.2 (eqs. 10-14), the
+// Tests of filigree/ffd.hpp and filigree/contact.hpp: the free-form deformation of §8.2 (eqs. 10-14), the
 // distortion measure of §4.3.2 and the Fig. 6 contact planner. Geometry oracles (transforms,
 // crossings, distances, the distortion by brute force) are written here independently of the
 // header.
@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "fabsynth/filigree/deformation.hpp"
+#include "fabsynth/filigree/contact.hpp"
 
 namespace ffd_test {
 

@@ -1,4 +1,4 @@
-// geometry/curve_region.hpp: on a jittered plane the region of a closed curve holds every face
+// surface/curve_region.hpp: on a jittered plane the region of a closed curve holds every face
 // whose centroid a point-in-polygon test (written here) puts inside, and nothing outside, both up
 // to a band about one face wide along the curve; on a sphere a circle of latitude gives the smaller cap, with the cap's closed-form
 // area up to the traced band; one run per orientation and start point gives the same faces; bad
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
-#include "fabsynth/geometry/curve_region.hpp"
+#include "fabsynth/surface/curve_region.hpp"
 #include "support/sphere_mesh.hpp"
 
 namespace curve_region_test {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_decoration.hpp  A band pattern on a surface made printable: embossed onto a shell
+/// @file decoration.hpp  A band pattern on a surface made printable: embossed onto a shell
 /// around the surface, or carved out of it, as one watertight mesh (Zhou, Jiang & Lefebvre 2014
 /// §6.3 and Fig. 23, topology-constrained-vector-patterns.md: the embossed vase and the egg stand
 /// carved out of a shell).

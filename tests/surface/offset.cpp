@@ -1,4 +1,4 @@
-// geometry/surface_offset.hpp (eq. 9 of filigree-synthesis.md §6.2): volumes of thickened open
+// surface/offset.hpp (eq. 9 of filigree-synthesis.md §6.2): volumes of thickened open
 // surfaces against Steiner's formula (a square: slab + half cylinders + a ball; an open cylinder:
 // annulus + two half tori), watertightness and one component, a closed sphere's void (filled or
 // kept, volumes of the balls), a graded thickness, bad input.
@@ -10,7 +10,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
-#include "fabsynth/geometry/surface_offset.hpp"
+#include "fabsynth/surface/offset.hpp"
 #include "support/sphere_mesh.hpp"
 
 namespace offset_test {

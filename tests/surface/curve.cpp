@@ -1,4 +1,4 @@
-// geometry/disk_parameterization.hpp and geometry/surface_curve.hpp: a planar disk maps by a
+// surface/disk_parameterization.hpp and surface/curve.hpp: a planar disk maps by a
 // similarity (cotangent weights reproduce linear functions); the vase maps bijectively onto the
 // circle and the square; on a plane mesh the surface curve is the planar spline (against a
 // Hermite-form centripetal Catmull-Rom written here) with every mesh edge it crosses (against a
@@ -12,11 +12,11 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/rng.hpp"
-#include "fabsynth/geometry/disk_parameterization.hpp"
+#include "fabsynth/surface/disk_parameterization.hpp"
 #include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/segment.hpp"
-#include "fabsynth/geometry/surface_curve.hpp"
+#include "fabsynth/surface/curve.hpp"
 #include "fabsynth/io/mesh.hpp"
 #include "support/sphere_mesh.hpp"
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_topology_cut.hpp  The topology cut (filigree-synthesis.md §4.5) of a pattern on a
+/// @file topology_cut.hpp  The topology cut (filigree-synthesis.md §4.5) of a pattern on a
 /// surface: topology_cut.hpp's four phases with every skeleton kept in its own local
 /// parameterization (topology_cut_in_frames).
 ///
@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "fabsynth/core/parallel.hpp"
-#include "fabsynth/filigree/surface_space.hpp"
+#include "fabsynth/filigree/surface/space.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
 #include "fabsynth/filigree/topology_cut.hpp"
 #include "fabsynth/geometry/rigid_motion.hpp"

@@ -1,4 +1,4 @@
-// geometry/surface_decoration.hpp: on a flat plate the embossed and carved solids are watertight,
+// surface/decoration.hpp: on a flat plate the embossed and carved solids are watertight,
 // their volumes match Steiner's formula for the shell plus / minus the pattern's prisms, and their
 // topology matches the developed band's, counted independently (tests/support/raster_topology.hpp):
 // embossing adds no component or handle, carving punches one handle per pattern component and
@@ -11,12 +11,12 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/parallel.hpp"
-#include "fabsynth/geometry/disk_parameterization.hpp"
+#include "fabsynth/surface/disk_parameterization.hpp"
 #include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/space_curve.hpp"
-#include "fabsynth/geometry/surface_curve.hpp"
-#include "fabsynth/geometry/surface_decoration.hpp"
+#include "fabsynth/surface/curve.hpp"
+#include "fabsynth/surface/decoration.hpp"
 #include "fabsynth/io/mesh.hpp"
 #include "support/raster_topology.hpp"
 

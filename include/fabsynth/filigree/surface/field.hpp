@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_field.hpp  Control fields on a base surface (filigree-synthesis.md §7.2, §8.1,
+/// @file field.hpp  Control fields on a base surface (filigree-synthesis.md §7.2, §8.1,
 /// Fig. 16): at every surface point, the tangent direction an element's up axis follows and the
 /// scale it takes. The surface counterpart of field.hpp (issue 15 builds the surface pipeline on
-/// it; the local parameterization of geometry/exponential_map.hpp turns a direction into the
+/// it; the local parameterization of surface/exponential_map.hpp turns a direction into the
 /// element's rotation in the patch's (u, v) frame).
 ///
 /// Usage:
@@ -21,7 +21,7 @@
 /// of a second axis (the coordinate axis least aligned with up) is used, so every point has a
 /// direction, with a visible turn around such a pole (any tangent field on a sphere has one).
 /// from_constraints: the per-vertex vectors harmonically interpolated from user directions at
-/// vertices (geometry/mesh_laplacian.hpp, cotangent weights, one solve for the three
+/// vertices (surface/laplacian.hpp, cotangent weights, one solve for the three
 /// coordinates): a smooth field through the constraints. The paper uses Diamanti et al. 2014's
 /// PolyVector fields, which also handle line (2-fold) symmetries; an element's up axis is a
 /// vector, not a line, so a 1-vector field interpolated in 3D and projected suffices here.
@@ -44,8 +44,8 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
-#include "fabsynth/geometry/exponential_map.hpp"
-#include "fabsynth/geometry/mesh_laplacian.hpp"
+#include "fabsynth/surface/exponential_map.hpp"
+#include "fabsynth/surface/laplacian.hpp"
 
 namespace fabsynth::filigree {
 

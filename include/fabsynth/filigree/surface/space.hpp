@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_space.hpp  Filigree synthesis on a base surface (filigree-synthesis.md §8.1: "all
+/// @file space.hpp  Filigree synthesis on a base surface (filigree-synthesis.md §8.1: "all
 /// computations are done on a locally parameterized 2D surface patch"): the surface pattern space
 /// of the synthesis drivers (placement.hpp's pattern_space concept) and the surface
 /// initialization. Part 1's steps run unchanged on pictures: for instance i, a pattern_state in
-/// the exponential map around i's reference point (geometry/exponential_map.hpp) holding i and
+/// the exponential map around i's reference point (surface/exponential_map.hpp) holding i and
 /// every instance whose reference point the map reaches, each rotated and scaled by the surface
 /// control field where it sits.
 ///
@@ -63,9 +63,9 @@
 #include "fabsynth/filigree/matching.hpp"
 #include "fabsynth/filigree/pattern.hpp"
 #include "fabsynth/filigree/placement.hpp"
-#include "fabsynth/filigree/surface_field.hpp"
+#include "fabsynth/filigree/surface/field.hpp"
 #include "fabsynth/geometry/distance.hpp"
-#include "fabsynth/geometry/exponential_map.hpp"
+#include "fabsynth/surface/exponential_map.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/sampling/dart_throwing.hpp"
 

@@ -6,7 +6,7 @@
 /// chart), a constrained triangulation of the result (geometry/triangulate.hpp's ear clipping,
 /// which keeps every boundary vertex), and the sub-triangles lifted back onto the face by their
 /// barycentric coordinates. The result is the baked mesh M_b, the input of the stress analysis and
-/// of the printable solid (geometry/surface_offset.hpp).
+/// of the printable solid (surface/offset.hpp).
 ///
 /// Usage:
 ///   // a flat mesh: its own x, y are the chart

@@ -1,4 +1,4 @@
-// geometry/mesh_laplacian.hpp: symmetry and zero row sums, linear precision on a planar
+// surface/laplacian.hpp: symmetry and zero row sums, linear precision on a planar
 // triangulation (a harmonic function that is linear is reproduced exactly), the maximum principle
 // on the bunny, components without constraints, and bad input.
 #include <catch2/catch.hpp>
@@ -8,7 +8,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/rng.hpp"
-#include "fabsynth/geometry/mesh_laplacian.hpp"
+#include "fabsynth/surface/laplacian.hpp"
 #include "fabsynth/io/mesh.hpp"
 #include "support/sphere_mesh.hpp"
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_reconstruct.hpp  Reconstruction of a filigree on a base surface
+/// @file reconstruct.hpp  Reconstruction of a filigree on a base surface
 /// (filigree-synthesis.md §6.1 baking, §6.2 printable mesh): the strips of every instance, drawn in
-/// its own local parameterization, baked into the faces of the base mesh (geometry/bake.hpp's
+/// its own local parameterization, baked into the faces of the base mesh (surface/bake.hpp's
 /// bake_per_face: per face the union of every instance's strips there, clipped to the face,
-/// triangulated and lifted), then thickened into a watertight solid (geometry/surface_offset.hpp).
+/// triangulated and lifted), then thickened into a watertight solid (surface/offset.hpp).
 ///
 /// Usage:
 ///   auto r  = fabsynth::filigree::synthesize_on_surface(classes, weights, region, field, opt);
@@ -23,9 +23,9 @@
 
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/filigree/reconstruct.hpp"
-#include "fabsynth/filigree/surface_space.hpp"
-#include "fabsynth/filigree/surface_synthesis.hpp"
-#include "fabsynth/geometry/bake.hpp"
+#include "fabsynth/filigree/surface/space.hpp"
+#include "fabsynth/filigree/surface/synthesis.hpp"
+#include "fabsynth/surface/bake.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/graph/skeleton_graph.hpp"
 

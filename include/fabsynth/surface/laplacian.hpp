@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file mesh_laplacian.hpp  The cotangent Laplacian of a triangle mesh and harmonic interpolation
+/// @file laplacian.hpp  The cotangent Laplacian of a triangle mesh and harmonic interpolation
 /// of per-vertex values from constrained vertices (Pinkall & Polthier 1993; Meyer, Desbrun,
 /// Schroeder & Barr 2003): the building block of harmonic maps and of smooth fields interpolated
 /// from sparse user constraints (filigree-synthesis.md §7.2 direction fields,

@@ -3,14 +3,14 @@
 /// @file disk_parameterization.hpp  A bijective map Phi of a disk-topology triangle mesh onto a
 /// convex plane domain (the unit circle or square), with point location both ways: the
 /// parameterization of Zhou, Jiang & Lefebvre 2014 §6.3 (topology-constrained-vector-patterns.md),
-/// used to draw curves on surfaces (geometry/surface_curve.hpp).
+/// used to draw curves on surfaces (surface/curve.hpp).
 ///
 /// Method. The boundary loop is placed on the border by its chord-length parameter, starting at
 /// its lowest-index vertex and running in the loop's own direction (so the faces keep their
 /// orientation: every face is counter-clockwise in the domain); the interior vertices solve the
 /// discrete harmonic equations with cotangent weights (Desbrun, Meyer & Alliez 2002, "Intrinsic
 /// parameterizations of surface meshes", the discrete conformal map, lambda = 1), through
-/// geometry/mesh_laplacian.hpp's harmonic_interpolation. That Laplacian clamps negative weights
+/// surface/laplacian.hpp's harmonic_interpolation. That Laplacian clamps negative weights
 /// to 0, so each interior vertex is a convex combination of its neighbours and the map is a Tutte
 /// embedding: bijective onto the convex domain for a disk (Floater 1997), where raw cotangent
 /// weights can fold faces on meshes with obtuse angles. The result is checked: a face that is
@@ -55,7 +55,7 @@
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/distance.hpp"
 #include "fabsynth/geometry/mesh.hpp"
-#include "fabsynth/geometry/mesh_laplacian.hpp"
+#include "fabsynth/surface/laplacian.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/polygon.hpp"
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_curve.hpp  A smooth curve drawn on a triangle mesh through points the user picks
+/// @file curve.hpp  A smooth curve drawn on a triangle mesh through points the user picks
 /// on it, with smooth frames: the synthesis band of Zhou, Jiang & Lefebvre 2014 §6.3 (Fig. 19, 20;
 /// topology-constrained-vector-patterns.md).
 ///
@@ -43,7 +43,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
-#include "fabsynth/geometry/disk_parameterization.hpp"
+#include "fabsynth/surface/disk_parameterization.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/geometry/polygon.hpp"
 #include "fabsynth/geometry/space_curve.hpp"

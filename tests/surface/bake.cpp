@@ -1,4 +1,4 @@
-// geometry/bake.hpp (filigree-synthesis.md §6.1): a flat and a tilted mesh baked with a polygonal
+// surface/bake.hpp (filigree-synthesis.md §6.1): a flat and a tilted mesh baked with a polygonal
 // disk, a ring with a hole and a rectangle that leaves the mesh: areas and boundary lengths against
 // closed forms (cracks between faces would add boundary), manifold edges, components, bad input.
 #include <catch2/catch.hpp>
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
-#include "fabsynth/geometry/bake.hpp"
+#include "fabsynth/surface/bake.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "support/sphere_mesh.hpp"
 

@@ -2,6 +2,9 @@
 #pragma once
 /// @file atomic_file.hpp  Whole-file output that never leaves a half-written file behind.
 ///
+/// Every writer of io/ goes through it, and so can a driver's own text outputs (reports, CSV):
+///   fabsynth::io::atomic_write("report.json", text);
+///
 /// atomic_write(path, bytes) writes to a temporary file in the target's directory and renames it
 /// over the target only after every byte was written and the stream closed without error. A
 /// failure (disk full, bad directory, permission) removes the temporary and throws io_error; the
@@ -19,7 +22,9 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/rng.hpp"
 
-namespace fabsynth::io::detail {
+namespace fabsynth::io {
+
+namespace detail {
 
 /// A temporary path next to `target` that no other call (in this or, very likely, another
 /// process) uses at the same time. Not reproducible on purpose: it never reaches any result.
@@ -33,6 +38,8 @@ inline std::filesystem::path temporary_sibling(const std::filesystem::path& targ
     return tmp;
 }
 
+}  // namespace detail
+
 /// Writes `bytes` to `target` atomically (see file comment). Throws invalid_input for an empty
 /// path, io_error naming the target when the directory is missing or any write step fails.
 inline void atomic_write(const std::filesystem::path& target, std::string_view bytes) {
@@ -44,7 +51,7 @@ inline void atomic_write(const std::filesystem::path& target, std::string_view b
     const fs::path dir = target.parent_path();
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw io_error(name, 0, std::string("cannot write: directory ") + dir.string() + " does not exist");
-    const fs::path tmp = temporary_sibling(target);
+    const fs::path tmp = detail::temporary_sibling(target);
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         if (!out) throw io_error(name, 0, std::string("cannot create temporary file ") + tmp.string());
@@ -64,4 +71,4 @@ inline void atomic_write(const std::filesystem::path& target, std::string_view b
     }
 }
 
-}  // namespace fabsynth::io::detail
+}  // namespace fabsynth::io

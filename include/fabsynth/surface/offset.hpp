@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_offset.hpp  A printable solid from a thin surface: the set of points within half a
+/// @file offset.hpp  A printable solid from a thin surface: the set of points within half a
 /// thickness of a triangle mesh (open or closed), meshed as a closed, consistently oriented
 /// triangle mesh. This is §6.2 of filigree-synthesis.md with eq. 9 (the point q of the surface
 /// nearest to p is inflated in all directions, also at open boundaries):

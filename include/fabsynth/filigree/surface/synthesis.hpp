@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file surface_synthesis.hpp  Pattern synthesis on a base surface (filigree-synthesis.md §3.5,
+/// @file synthesis.hpp  Pattern synthesis on a base surface (filigree-synthesis.md §3.5,
 /// §4, §8.1): initialization on the surface, then part 1's rounds of placement and boosting
 /// (synthesis.hpp's optimize_layout) through the surface pattern space (surface_space.hpp), and
 /// each instance's skeleton mapped onto the surface through its own local parameterization, so
@@ -21,8 +21,8 @@
 #include <span>
 #include <vector>
 
-#include "fabsynth/filigree/surface_space.hpp"
-#include "fabsynth/filigree/surface_topology_cut.hpp"
+#include "fabsynth/filigree/surface/space.hpp"
+#include "fabsynth/filigree/surface/topology_cut.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
 
 namespace fabsynth::filigree {

@@ -1,4 +1,4 @@
-// geometry/exponential_map.hpp: the discrete exponential map against closed forms: an isometry on
+// surface/exponential_map.hpp: the discrete exponential map against closed forms: an isometry on
 // a tilted, jittered plane (exact), the unrolled cylinder (developable), great-circle distances on
 // a sphere, no mirrored face where the discrete map folds (a lens's rim, past a sphere's equator),
 // point location round trips, determinism and bad input.
@@ -10,7 +10,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/rng.hpp"
-#include "fabsynth/geometry/exponential_map.hpp"
+#include "fabsynth/surface/exponential_map.hpp"
 #include "support/sphere_mesh.hpp"
 
 namespace expmap_test {
