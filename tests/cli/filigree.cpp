@@ -150,7 +150,9 @@ TEST_CASE("filigree: one connected piece (independent raster count), watertight 
         const auto& wf = j.at("structure").at("weak_fraction_phase2");
         REQUIRE_FALSE(wf.empty());
         CHECK(wf.back() == 0.0);
-        CHECK(j.at("pme").at("final").get<double>() <= j.at("pme").at("initial").get<double>());
+        // Placement does its work: the PME ends at least 10% below the initialization's (a rise is
+        // undone by construction, so "not above" could not fail; the main job's runs end 2-50% lower).
+        CHECK(j.at("pme").at("final").get<double>() < 0.9 * j.at("pme").at("initial").get<double>());
         fs::path steps = fs::path(out).parent_path() / (fs::path(out).stem().string() + "_steps.png");
         CHECK(fs::file_size(steps) > 0);
         outputs.push_back(svg + slurp(stl));
@@ -295,7 +297,9 @@ TEST_CASE("filigree --mesh: a band of the vase, watertight solid, report, same b
         CHECK(j.at("instances").get<int>() >= 10);
         CHECK(j.at("structure").at("analysed") == true);
         CHECK(j.at("structure").at("weak_fraction_phase2").back() == 0.0);
-        CHECK(j.at("pme").at("final").get<double>() <= j.at("pme").at("initial").get<double>());
+        // Placement does its work: the PME ends at least 10% below the initialization's (a rise is
+        // undone by construction, so "not above" could not fail; the main job's runs end 2-50% lower).
+        CHECK(j.at("pme").at("final").get<double>() < 0.9 * j.at("pme").at("initial").get<double>());
         CHECK(fs::file_size(obj) > 0);
         CHECK(fs::file_size(png) > 0);
         outputs.push_back(slurp(out) + slurp(obj));

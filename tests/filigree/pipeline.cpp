@@ -5,8 +5,11 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
+#include <map>
 #include <set>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -32,13 +35,36 @@ inline filigree_options quick(std::uint64_t seed) {
     return o;
 }
 
-// Records every progress call; returns false at call number `stop` (1-based; 0: never).
+// Records every progress call; returns false at call number `stop` (1-based; 0: never) or at the
+// first call of stage `stop_stage`.
 struct recorder {
     std::vector<double> fractions;
+    std::vector<std::string> stages;
+    std::vector<double> seconds;  // since the first call
+    std::chrono::steady_clock::time_point t0;
     std::size_t stop = 0;
-    bool operator()(double f, std::string_view) {
+    std::string stop_stage;
+    bool operator()(double f, std::string_view stage) {
+        const auto now = std::chrono::steady_clock::now();
+        if (fractions.empty()) t0 = now;
         fractions.push_back(f);
-        return fractions.size() != stop;
+        stages.emplace_back(stage);
+        seconds.push_back(std::chrono::duration<double>(now - t0).count());
+        return fractions.size() != stop && stage != stop_stage;
+    }
+    // The calls worth cancelling at (1-based): the first and the middle call of every stage, the last.
+    [[nodiscard]] std::set<std::size_t> cancel_points() const {
+        std::map<std::string, std::vector<std::size_t>> at;
+        for (std::size_t i = 0; i < stages.size(); ++i) at[stages[i]].push_back(i + 1);
+        std::set<std::size_t> k{stages.size()};
+        for (const auto& [stage, calls] : at) k.insert(calls.front()), k.insert(calls[calls.size() / 2]);
+        return k;
+    }
+    [[nodiscard]] std::size_t count(std::string_view stage) const { return static_cast<std::size_t>(std::count(stages.begin(), stages.end(), stage)); }
+    [[nodiscard]] double longest_gap() const {
+        double g = 0;
+        for (std::size_t i = 1; i < seconds.size(); ++i) g = std::max(g, seconds[i] - seconds[i - 1]);
+        return g;
     }
 };
 
@@ -81,14 +107,27 @@ TEST_CASE("make_filigree in a rectangle: the chained calls' outline and extrusio
     CHECK(rec.fractions.back() == 1.0);
     CHECK(std::is_sorted(rec.fractions.begin(), rec.fractions.end()));
 
-    // cancelled at every call in turn
-    for (std::size_t k = 1; k <= rec.fractions.size(); ++k) {
-        INFO("cancelled at call " << k);
+    // reported inside the loops of placement and boosting, not only between phases
+    CHECK(rec.count("placement") >= 4);
+    CHECK(rec.count("boosting") >= 2);
+    WARN("planar: " << rec.fractions.size() << " progress calls, longest gap " << rec.longest_gap() << " s");
+    // cancelled at the first and the middle call of every stage, and at the last call
+    for (const std::size_t k : rec.cancel_points()) {
+        INFO("cancelled at call " << k << " (" << rec.stages[k - 1] << ")");
         recorder stop;
         stop.stop = k;
         CHECK_THROWS_AS(make_filigree(cls, w, dom, constant_field{}, opt, stop), cancelled);
         CHECK(stop.fractions.size() == k);  // nothing reported after the refusal
     }
+
+    // with the structural optimization: the FEM analyses and the thickening steps report too
+    filigree_options full = opt;
+    full.reinforcement.enabled = true;
+    recorder thick;
+    thick.stop_stage = "thickening";
+    CHECK_THROWS_AS(make_filigree(cls, w, dom, constant_field{}, full, thick), cancelled);
+    CHECK(thick.count("structural analysis") >= 1);
+    CHECK(thick.stages.back() == "thickening");
 }
 
 TEST_CASE("make_filigree on a cylinder: the chained calls' M_b, a watertight one-piece solid, region faces, cancellation", "[filigree][pipeline][surface][slow]") {
@@ -120,13 +159,17 @@ TEST_CASE("make_filigree on a cylinder: the chained calls' M_b, a watertight one
     REQUIRE(f.instances_per_class.size() == 1);
     CHECK(f.instances_per_class[0] == f.synthesis.instances.size());
 
-    // progress: from 0 to 1; cancelled at the first three calls and the last
+    // progress: from 0 to 1, inside placement too; cancelled at the first three calls, inside
+    // placement and at the last
     REQUIRE(rec.fractions.size() >= 5);
     CHECK(rec.fractions.front() == 0.0);
     CHECK(rec.fractions.back() == 1.0);
     CHECK(std::is_sorted(rec.fractions.begin(), rec.fractions.end()));
+    CHECK(rec.count("placement") >= 4);
+    WARN("surface: " << rec.fractions.size() << " progress calls, longest gap " << rec.longest_gap() << " s");
     const std::size_t n = rec.fractions.size();
-    for (const std::size_t k : {std::size_t{1}, std::size_t{2}, std::size_t{3}, n}) {
+    const std::size_t in_placement = static_cast<std::size_t>(std::find(rec.stages.begin(), rec.stages.end(), "placement") - rec.stages.begin()) + 2;
+    for (const std::size_t k : {std::size_t{1}, std::size_t{2}, std::size_t{3}, in_placement, n}) {
         INFO("cancelled at call " << k << " of " << n);
         recorder stop;
         stop.stop = k;

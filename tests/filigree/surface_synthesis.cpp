@@ -1,7 +1,7 @@
 // Filigree synthesis on surfaces (filigree-synthesis.md §8.1): on a flat mesh the surface path
 // (exponential-map pictures) reproduces the 2D path of part 1 with the same seed, the topology cut
 // included; on curved meshes every instance stays in the region, its skeleton lies on the surface,
-// the PME never rises and the result (the cut skeletons too) is the same for 1 and 2 threads.
+// the PME drops by 10% or more and the result (the cut skeletons too) is the same for 1 and 2 threads.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -149,7 +149,7 @@ TEST_CASE("surface layout optimization and topology cut on a flat square follow 
     }
 }
 
-TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, PME not above its start, same for 1 and 2 threads",
+TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, PME 10% below its start, same for 1 and 2 threads",
           "[filigree][surface][slow]") {
     const std::vector<element> cls{load_element("s_curl", 14)};
     const std::vector<double> w{1.0};
@@ -164,7 +164,7 @@ TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, 
         const auto r = synthesize_on_surface(cls, w, band.region, band.field(), so);
         set_num_threads(0);
         REQUIRE(r.instances.size() >= 10);
-        CHECK(r.energy_final <= r.energy_initial);
+        CHECK(r.energy_final < 0.9 * r.energy_initial);  // placement works (a rise is undone by construction)
         CHECK(r.maps_built > 0);
         for (std::size_t i = 0; i < r.instances.size(); ++i) {
             CHECK(band.region.contains(r.instances[i].anchor.face));

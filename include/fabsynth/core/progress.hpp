@@ -5,6 +5,11 @@
 /// A progress callback is called as `cb(fraction, stage)` with fraction in [0,1] and a short
 /// stage name. If it returns bool, returning false cancels the work (the library throws
 /// fabsynth::cancelled). Drivers render it on stderr; library code never prints.
+///
+/// An entry point hands each of its phases a progress_span: the phase's share [from, to] of the
+/// caller's progress. Long loops inside the phase report through it (fractions of the phase), so a
+/// cancellation takes effect inside the loop, not only at the next phase boundary.
+#include <algorithm>
 #include <concepts>
 #include <functional>
 #include <string>
@@ -42,5 +47,35 @@ void report_progress(F& cb, double fraction, std::string_view stage) {
             throw cancelled("cancelled by progress callback during " + std::string(stage));
     }
 }
+
+/// One phase's share [from, to] of a caller's progress, for the loops inside the phase. Calling it
+/// with a fraction f in [0, 1] of the phase reports from + (to - from) f to the caller's callback
+/// and throws fabsynth::cancelled when the callback asks to stop. Call it from one thread only (the
+/// serial part of a parallel loop). A default-constructed span reports nowhere and never cancels.
+/// The span refers to the caller's callback: it must not outlive it.
+class progress_span {
+public:
+    progress_span() = default;
+
+    template <progress_callback F>
+        requires(!std::same_as<std::remove_cvref_t<F>, progress_span>)
+    progress_span(F& cb, double from, double to)
+        : report_([&cb](double f, std::string_view stage) { report_progress(cb, f, stage); }), from_(from), to_(to) {}
+
+    void operator()(double fraction, std::string_view stage) const {
+        if (report_) report_(from_ + (to_ - from_) * std::clamp(fraction, 0.0, 1.0), stage);
+    }
+
+    /// The part [a, b] of this span (fractions of it), for a loop nested in a loop.
+    [[nodiscard]] progress_span part(double a, double b) const {
+        progress_span p = *this;
+        p.from_ = from_ + (to_ - from_) * a, p.to_ = from_ + (to_ - from_) * b;
+        return p;
+    }
+
+private:
+    std::function<void(double, std::string_view)> report_;
+    double from_ = 0.0, to_ = 1.0;
+};
 
 }  // namespace fabsynth

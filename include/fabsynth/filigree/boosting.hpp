@@ -37,6 +37,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/parallel.hpp"
+#include "fabsynth/core/progress.hpp"
 #include "fabsynth/filigree/connection.hpp"
 #include "fabsynth/filigree/placement.hpp"
 
@@ -191,7 +192,8 @@ struct boost_move {
 /// placement is deterministic too). The PME never rises: an iteration whose moves and relaxation
 /// end above the PME it started from is undone and ends boosting.
 template <pattern_space S>
-[[nodiscard]] boosting_report boost_placement(S& s, const connection_database& filtered, const boosting_options& opt = {}) {
+[[nodiscard]] boosting_report boost_placement(S& s, const connection_database& filtered, const boosting_options& opt = {},
+                                              const progress_span& progress = {}) {
     namespace db = detail::boosting;
     using view_type = decltype(s.view(0));
     boosting_report rep;
@@ -204,7 +206,10 @@ template <pattern_space S>
         std::size_t moved = 0, reconnected = 0;
         double translation = 0;
         const auto sets = detail::placement::independent_sets(s.connectivity());
-        for (const auto& set : sets) {
+        const double share = 1.0 / opt.max_iterations;  // of the span: one iteration (its sets, then the relaxation)
+        for (std::size_t si = 0; si < sets.size(); ++si) {
+            const auto& set = sets[si];
+            progress(share * (it + 0.5 * static_cast<double>(si) / static_cast<double>(sets.size())), "boosting");
             const auto adj = s.connectivity();  // moves of the previous set changed neighbourhoods
             std::vector<db::boost_move> res(set.size());
             parallel_for(0, set.size(), [&](std::size_t k) {
@@ -232,7 +237,7 @@ template <pattern_space S>
         placement_options relax = opt.relax;
         relax.seed = opt.seed ^ (0xbf58476d1ce4e5b9ULL * static_cast<std::uint64_t>(it + 1));
         connection_database scratch;
-        translation += place_optimize(s, scratch, relax).translation;
+        translation += place_optimize(s, scratch, relax, progress.part(share * (it + 0.5), share * (it + 1))).translation;
         const double after = s.pattern_energy();
         if (!(after < energy)) {  // boosting never ends above its start
             s.restore(std::move(before));

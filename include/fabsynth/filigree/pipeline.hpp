@@ -30,9 +30,10 @@
 ///             init.max_elements, ...) and `reinforcement` (reinforcement.hpp: enabled, material,
 ///             thickness mm, pressure Pa, ...); their seed: synthesis.seed (the re-syntheses of §5
 ///             derive theirs from it).
-///   progress  cb(fraction in [0, 1], stage name), called between the named phases; returning false
-///             cancels (fabsynth::cancelled). Inside a phase it is not called: the synthesis,
-///             reinforcement, thickening and rendering building blocks take no callback.
+///   progress  cb(fraction in [0, 1], stage name), called between the named phases and inside the
+///             long loops (every set of independent moves of placement and boosting, every FEM
+///             analysis of §5, every thickening step); returning false cancels (fabsynth::cancelled)
+///             at the next such call. Meshing and rendering take no callback: they run in seconds.
 ///
 /// Errors: invalid_input for bad input (elements, weights, domain, region, up vector, options),
 /// no_solution when an element cannot be placed, solver_error when the pattern comes out empty,
@@ -136,11 +137,11 @@ template <control_field F, progress_callback P = no_progress>
     planar_filigree r;
 
     report_progress(progress, 0.0, "synthesis");
-    r.synthesis = synthesize_pattern(classes, weights, domain, field, opt.synthesis);
+    r.synthesis = synthesize_pattern(classes, weights, domain, field, opt.synthesis, progress_span(progress, 0.0, 0.6));
     r.seconds.synthesis = r.synthesis.seconds;
 
     report_progress(progress, 0.6, opt.reinforcement.enabled ? "strips and structure" : "strips");
-    r.reinforcement = reinforce(classes, weights, domain, field, opt.synthesis, r.synthesis, opt.reinforcement);
+    r.reinforcement = reinforce(classes, weights, domain, field, opt.synthesis, r.synthesis, opt.reinforcement, progress_span(progress, 0.6, 0.85));
     r.seconds.structure = r.reinforcement.seconds;
     if (r.reinforcement.outline.empty()) throw solver_error("the synthesized pattern is empty");
 

@@ -35,6 +35,7 @@
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/parallel.hpp"
+#include "fabsynth/core/progress.hpp"
 #include "fabsynth/core/rng.hpp"
 #include "fabsynth/filigree/domain.hpp"
 #include "fabsynth/filigree/element.hpp"
@@ -316,7 +317,8 @@ struct move_result {
 /// PLACEOPTIM (Algorithm 1) on `s`, appending every scored pair to `database`. The PME never
 /// rises: an iteration that would raise it is undone and ends the optimization.
 template <pattern_space S>
-[[nodiscard]] placement_report place_optimize(S& s, connection_database& database, const placement_options& opt = {}) {
+[[nodiscard]] placement_report place_optimize(S& s, connection_database& database, const placement_options& opt = {},
+                                              const progress_span& progress = {}) {
     namespace dp = detail::placement;
     if (opt.candidates < 1 || !(opt.step > 0) || !(opt.step_decay > 0 && opt.step_decay <= 1) || opt.max_iterations < 0)
         throw invalid_input("placement: candidates >= 1, step > 0 and step_decay in (0, 1] are required");
@@ -334,7 +336,9 @@ template <pattern_space S>
         const auto adj = s.connectivity();
         const auto sets = dp::independent_sets(adj);
         double moved = 0;
-        for (const auto& set : sets) {
+        for (std::size_t si = 0; si < sets.size(); ++si) {
+            const auto& set = sets[si];
+            progress((it + static_cast<double>(si) / static_cast<double>(sets.size())) / opt.max_iterations, "placement");
             std::vector<dp::move_result> res(set.size());
             std::vector<std::optional<view_type>> views(set.size());
             parallel_for(0, set.size(), [&](std::size_t k) {

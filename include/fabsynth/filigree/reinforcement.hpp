@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/progress.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/filigree/reconstruct.hpp"
 #include "fabsynth/filigree/structure.hpp"
@@ -79,15 +80,19 @@ struct reinforcement_result : structural_record {
 /// current candidate (its instances, its printable piece and the FEM model of that piece); the
 /// callables know what it holds:
 ///   analyse(layout, thickness mm)            -> structural_report of the piece at that thickness;
-///   grow(layout, report, round, added&)       -> the re-synthesized layout with `added` elements
+///   grow(layout, report, round, added&, span) -> the re-synthesized layout with `added` elements
 ///                                               inserted at the weak regions (nullopt when none was);
-///   thicken(layout, thickness mm)             -> phase 2's thickening_result.
+///   thicken(layout, thickness mm, span)       -> phase 2's thickening_result.
+/// `progress` receives the analyses (phase 1 in its first 60%, phase 2 after); grow and thicken
+/// report their own loops through the span they are given.
 /// Phase 1 keeps a round only if it lowers the weak fraction (else the previous layout stays and
 /// the phase ends). Fills r's analyses and phases (not fem_nodes, which each form counts);
 /// throws solver_error when weak nodes remain after thickening.
 template <class Layout, class Analyse, class Grow, class Thicken>
 void reinforcement_loop(Layout& layout, structural_record& r, const reinforcement_options& opt, Analyse&& analyse, Grow&& grow,
-                        Thicken&& thicken) {
+                        Thicken&& thicken, const progress_span& progress = {}) {
+    const double per_round = 0.6 / (opt.max_insertion_rounds + 1);
+    progress(0.0, "structural analysis");
     structural_report rep = analyse(layout, r.thickness);
     r.analysed = true;
     r.histogram_before = rep.histogram;
@@ -96,9 +101,11 @@ void reinforcement_loop(Layout& layout, structural_record& r, const reinforcemen
     // Phase 1: new elements where the piece is weak, then re-synthesis.
     for (int round = 0; round < opt.max_insertion_rounds && rep.weak_fraction > opt.weak_limit; ++round) {
         std::size_t added = 0;
-        std::optional<Layout> next = grow(std::as_const(layout), std::as_const(rep), round, added);
+        const double at = per_round * (round + 1);
+        std::optional<Layout> next = grow(std::as_const(layout), std::as_const(rep), round, added, progress.part(at, at + 0.8 * per_round));
         r.inserted_per_round.push_back(added);
         if (!next) break;
+        progress(at + 0.8 * per_round, "structural analysis");
         structural_report rep2 = analyse(*next, r.thickness);
         r.weak_fraction_phase1.push_back(rep2.weak_fraction);
         if (rep2.weak_fraction >= rep.weak_fraction) break;  // no better: keep the previous layout
@@ -106,7 +113,7 @@ void reinforcement_loop(Layout& layout, structural_record& r, const reinforcemen
         rep = std::move(rep2);
     }
     // Phase 2: +10% thickness per iteration until no node is weak.
-    const thickening_result th = thicken(std::as_const(layout), r.thickness);
+    const thickening_result th = thicken(std::as_const(layout), r.thickness, progress.part(0.6, 1.0));
     if (!th.converged) throw solver_error("filigree: weak nodes remain after thickening to " + std::to_string(th.thickness) + " mm");
     r.thickness = th.thickness;
     r.thickness_phase2 = th.thickness_history;
@@ -164,7 +171,7 @@ inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skelet
 template <control_field F>
 [[nodiscard]] reinforcement_result reinforce(std::span<const element> classes, std::span<const double> weights, const planar_domain& domain,
                                              const F& field, const synthesis_options& so, const synthesis_result& syn,
-                                             const reinforcement_options& opt = {}) {
+                                             const reinforcement_options& opt = {}, const progress_span& progress = {}) {
     namespace dr = detail::reinforce;
     require_positive(opt.thickness, "reinforce: thickness (mm)");
     const auto t0 = std::chrono::steady_clock::now();
@@ -191,7 +198,7 @@ template <control_field F>
         const std::uint32_t cls = reinforcement_class(weights);
         reinforcement_loop(
             best, r, opt, [&](const layout& l, double t) { return analyse_structure(l.tri, t, sopt); },
-            [&](const layout& l, const structural_report& rep, int round, std::size_t& added) -> std::optional<layout> {
+            [&](const layout& l, const structural_report& rep, int round, std::size_t& added, const progress_span& grow_progress) -> std::optional<layout> {
                 std::vector<instance> in = l.instances;
                 for (const vec2& c : weak_region_centres(rep, 0.5 * classes[cls].size))
                     if (domain.contains(c)) in.push_back(make_instance(classes, cls, c, field)), ++added;
@@ -201,18 +208,19 @@ template <control_field F>
                 again.max_rounds = opt.resynthesis_rounds;
                 again.seed = so.seed + 1000 * static_cast<std::uint64_t>(round + 1);
                 synthesis_result res;
-                optimize_pattern(s, again, res);
+                optimize_pattern(s, again, res, grow_progress);
                 layout next;
                 next.outline = dr::one_piece(res.skeletons, domain, next.dropped, next.dropped_fraction);
                 next.tri = make_fem_triangulation(coarsened_outline(next.outline, 0.25 * h), h);
                 next.instances = std::move(res.instances);
                 return next;
             },
-            [&](const layout& l, double t) {
-                thickening_result th = thicken_until_strong(l.tri, t, sopt);
+            [&](const layout& l, double t, const progress_span& thicken_progress) {
+                thickening_result th = thicken_until_strong(l.tri, t, sopt, {}, thicken_progress);
                 r.fem_nodes = th.report.node_positions.size();
                 return th;
-            });
+            },
+            progress);
         r.instances = std::move(best.instances), r.outline = std::move(best.outline);
         r.pieces_dropped = best.dropped, r.dropped_area_fraction = best.dropped_fraction;
     }

@@ -52,6 +52,7 @@
 
 #include "fabsynth/core/box.hpp"
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/progress.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/core/union_find.hpp"
 #include "fabsynth/fem/assembly.hpp"
@@ -354,13 +355,14 @@ struct thickening_result {
 
 /// Phase 2 with any analysis: analyse(t) -> structural_report at thickness t [mm].
 template <class Analyse>
-[[nodiscard]] thickening_result thicken_with(Analyse&& analyse, double thickness, const thickening_options& topt) {
+[[nodiscard]] thickening_result thicken_with(Analyse&& analyse, double thickness, const thickening_options& topt, const progress_span& progress = {}) {
     require_positive(thickness, "thicken_until_strong: thickness (mm)");
     if (!(std::isfinite(topt.growth) && topt.growth > 1.0)) throw invalid_input("thicken_until_strong: growth must be finite and > 1");
     if (topt.max_iterations < 0) throw invalid_input("thicken_until_strong: max_iterations must be >= 0");
     thickening_result out;
     for (int k = 0;; ++k) {
         const double t = thickness * std::pow(topt.growth, k);
+        progress(static_cast<double>(k) / (topt.max_iterations + 1), "thickening");
         out.report = analyse(t);
         out.thickness = t;
         out.iterations = k;
@@ -379,8 +381,8 @@ template <class Analyse>
 /// opt.growth (t_k = t0 * growth^k, computed by a power, so no drift) and analyses again, at most
 /// opt.max_iterations times. Throws what analyse_structure throws, and invalid_input for bad options.
 [[nodiscard]] inline thickening_result thicken_until_strong(const fem_triangulation& tri, double thickness, const structure_options& opt = {},
-                                                            const thickening_options& topt = {}) {
-    return thicken_with([&](double t) { return analyse_structure(tri, t, opt); }, thickness, topt);
+                                                            const thickening_options& topt = {}, const progress_span& progress = {}) {
+    return thicken_with([&](double t) { return analyse_structure(tri, t, opt); }, thickness, topt, progress);
 }
 
 }  // namespace fabsynth::filigree

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/progress.hpp"
 #include "fabsynth/filigree/boosting.hpp"
 #include "fabsynth/filigree/connection.hpp"
 #include "fabsynth/filigree/domain.hpp"
@@ -109,12 +110,12 @@ template <pattern_space S>
 
 // One round: PLACEOPTIM then boosting (Algorithms 1 and 2); returns the translation summed.
 template <pattern_space S, class R>
-double run_round(S& s, connection_database& D, const synthesis_options& opt, int round, R& r) {
+double run_round(S& s, connection_database& D, const synthesis_options& opt, int round, R& r, const progress_span& progress) {
     placement_options po = opt.placement;
     po.seed = opt.seed ^ (0x9e3779b97f4a7c15ULL * static_cast<std::uint64_t>(round + 1));
     if (opt.smooth_connection) po.smooth_connection = make_smooth_connection(opt.sigma_d);
     auto t = clock::now();
-    const placement_report pr = place_optimize(s, D, po);
+    const placement_report pr = place_optimize(s, D, po, progress.part(0.0, 0.5));
     r.seconds.placement += since(t);
     r.smooth_connections += pr.smooth_connections;
     if (round == 0) r.placed_once = s.snapshot(), r.energy_after_placement = s.pattern_energy();
@@ -125,7 +126,7 @@ double run_round(S& s, connection_database& D, const synthesis_options& opt, int
     bo.relax.max_iterations = opt.boosting.relax.max_iterations;
     bo.sigma_d = opt.sigma_d;
     bo.reconnect = bo.reconnect && opt.smooth_connection;
-    const boosting_report br = boost_placement(s, filter_candidates(D, opt.sigma_f), bo);
+    const boosting_report br = boost_placement(s, filter_candidates(D, opt.sigma_f), bo, progress.part(0.5, 1.0));
     r.seconds.boosting += since(t);
     r.boosted += br.boosted;
     r.reconnected += br.reconnected;
@@ -140,14 +141,14 @@ double run_round(S& s, connection_database& D, const synthesis_options& opt, int
 /// overlap limits of opt.init (pattern_state::spacing_kept). `r` receives the energies, counts and
 /// timings (the fields of synthesis_result of those names; placed_once a snapshot of s).
 template <pattern_space S, class R>
-void optimize_layout(S& s, const synthesis_options& opt, R& r) {
+void optimize_layout(S& s, const synthesis_options& opt, R& r, const progress_span& progress = {}) {
     namespace ds = detail::synthesis;
     connection_database D;
     s.set_spacing(opt.init.max_single_overlap, opt.init.same_class_penalty);  // moves keep §4.1's spacing
     r.energy_initial = s.pattern_energy();
     r.energy_per_round.push_back(s.size() ? r.energy_initial / static_cast<double>(s.size()) : 0.0);
     for (int round = 0; round < opt.max_rounds; ++round) {
-        const double moved = ds::run_round(s, D, opt, round, r);
+        const double moved = ds::run_round(s, D, opt, round, r, progress.part(static_cast<double>(round) / opt.max_rounds, static_cast<double>(round + 1) / opt.max_rounds));
         ++r.rounds;
         r.energy_per_round.push_back(s.size() ? s.pattern_energy() / static_cast<double>(s.size()) : 0.0);
         if (moved < opt.converged_translation * ds::mean_size(s) * static_cast<double>(s.size())) break;
@@ -157,9 +158,10 @@ void optimize_layout(S& s, const synthesis_options& opt, R& r) {
 }
 
 /// Runs pattern synthesis on the existing instances of `s` (optimize_layout, then the topology cut).
-inline void optimize_pattern(pattern_state& s, const synthesis_options& opt, synthesis_result& r) {
+inline void optimize_pattern(pattern_state& s, const synthesis_options& opt, synthesis_result& r, const progress_span& progress = {}) {
     namespace ds = detail::synthesis;
-    optimize_layout(s, opt, r);
+    optimize_layout(s, opt, r, progress.part(0.0, 0.95));
+    progress(0.95, "topology cut");
     r.instances = s.instances();
     r.skeletons = world_skeletons(s);
     if (opt.topology_cut) {
@@ -174,7 +176,7 @@ inline void optimize_pattern(pattern_state& s, const synthesis_options& opt, syn
 /// call; the result holds its own instances and skeletons.
 template <control_field F>
 [[nodiscard]] synthesis_result synthesize_pattern(std::span<const element> classes, std::span<const double> weights, const planar_domain& domain,
-                                                  const F& field, const synthesis_options& opt = {}) {
+                                                  const F& field, const synthesis_options& opt = {}, const progress_span& progress = {}) {
     namespace ds = detail::synthesis;
     synthesis_result r;
     auto t = ds::clock::now();
@@ -185,7 +187,8 @@ template <control_field F>
     r.initial = init.instances;
     r.covered_fraction = init.covered_fraction;
     pattern_state s(classes, init.instances, any_field(field), domain, opt.gamma_boundary);
-    optimize_pattern(s, opt, r);
+    progress(0.05, "placement");
+    optimize_pattern(s, opt, r, progress.part(0.05, 1.0));
     return r;
 }
 

@@ -9,17 +9,15 @@
 /// Usage:
 ///   std::vector<fabsynth::vec3> pts = fabsynth::io::read_points_csv("in.csv");
 ///   fabsynth::io::write_points_csv("out.csv", pts);            // shortest round-trip decimals, atomic
-#include <charconv>
-#include <cmath>
 #include <filesystem>
 #include <string>
 #include <string_view>
-#include <system_error>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/io/atomic_file.hpp"
+#include "fabsynth/io/detail/number_lines.hpp"
 #include "fabsynth/io/detail/read_file.hpp"
 
 namespace fabsynth::io {
@@ -27,36 +25,10 @@ namespace fabsynth::io {
 /// Parses points from memory (`name` is used in error messages).
 [[nodiscard]] inline std::vector<vec3> parse_points_csv(std::string_view text, const std::string& name) {
     std::vector<vec3> pts;
-    std::size_t line_no = 0, pos = 0;
-    while (pos < text.size()) {
-        const std::size_t end = std::min(text.find('\n', pos), text.size());
-        std::string_view line = text.substr(pos, end - pos);
-        pos = end + 1;
-        ++line_no;
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        const std::size_t first = line.find_first_not_of(" \t");
-        if (first == std::string_view::npos || line[first] == '#') continue;
-        double c[3];
-        int n = 0;
-        std::size_t i = first;
-        while (i < line.size()) {
-            while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == ',')) ++i;
-            if (i == line.size()) break;
-            std::size_t j = i;
-            while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != ',') ++j;
-            const std::string_view tok = line.substr(i, j - i);
-            if (n == 3) throw io_error(name, line_no, "more than three coordinates on the line");
-            const char* b = tok.data() + (tok.front() == '+' ? 1 : 0);
-            const auto [ptr, ec] = std::from_chars(b, tok.data() + tok.size(), c[n]);
-            if (ec != std::errc() || ptr != tok.data() + tok.size())
-                throw io_error(name, line_no, "'" + std::string(tok) + "' is not a number");
-            if (!std::isfinite(c[n])) throw io_error(name, line_no, "coordinate '" + std::string(tok) + "' is not finite");
-            ++n;
-            i = j;
-        }
-        if (n != 3) throw io_error(name, line_no, "expected three coordinates x,y,z, found " + std::to_string(n));
+    detail::for_each_number_line(text, name, [&](std::size_t line_no, const std::vector<double>& c) {
+        if (c.size() != 3) throw io_error(name, line_no, "expected three coordinates x,y,z, found " + std::to_string(c.size()));
         pts.emplace_back(c[0], c[1], c[2]);
-    }
+    });
     return pts;
 }
 

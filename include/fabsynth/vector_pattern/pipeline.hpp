@@ -10,13 +10,13 @@
 ///  1. scaled_exemplar: the exemplar scaled uniformly so that its height is options.band_height.
 ///  2. band_synthesis_options: options.synthesis with the band's length L, closedness and height.
 ///  3. one pair of phases per form of `where`, progress reported between the two:
-///     - synthesize_planar_band (check the band fits the curve, |v| <= H/2; synthesize_along) and
+///     - synthesize_curve_band (check the band fits the curve, |v| <= H/2; synthesize_along) and
 ///       extrude_planar_band (the result mapped onto the curve is the drawing,
 ///       vector_pattern/band_map.hpp; the slab is extruded in the parameter domain,
 ///       geometry/extrude.hpp, and mirrored to a y-up frame: the drawing is y-down, as SVG);
 ///     - synthesize_rectangle_band (synthesize_rectangle) and extrude_rectangle_band (triangulate,
 ///       extrude, mirror);
-///     - synthesize_space_band (check the band fits, synthesize_along; the drawing is the developed
+///     - synthesize_curve_band (check the band fits, synthesize_along; the drawing is the developed
 ///       band, u along the curve, v across) and extrude_along_space_curve;
 ///     - traced_surface_band (a closed genus-0 mesh is cut open at the vertex farthest from the
 ///       points, harmonic disk map, trace_surface_curve, band_curve with points closer than H/8
@@ -26,10 +26,12 @@
 ///     producer), the solid's topology (surfaces only), the view box of the drawing and the preview:
 ///     the coverage image of the drawing for planar forms, a shaded render of the solid from two
 ///     opposite sides for curves in space and surfaces.
-/// Progress: reported between every phase (fractions in [0, 1], stage names as the phases). None
-/// of the inner calls (synthesize_along, decorate_surface, disk_parameterization, the renderers)
-/// takes a progress callback today, so a cancellation (the callback returning false: fabsynth::
-/// cancelled) takes effect at the next phase boundary. No file I/O (drivers read and write).
+/// Progress: reported between every phase (fractions in [0, 1], stage names as the phases) and
+/// inside the synthesis, at every length layer of the sequence DP (dp::solve_sequence), so a
+/// cancellation (the callback returning false: fabsynth::cancelled) stops the DP within a layer.
+/// The other inner calls (decorate_surface, disk_parameterization, the extrusions, the renderers)
+/// take no callback: a cancellation there takes effect at the next phase boundary. No file I/O
+/// (drivers read and write).
 ///
 /// Usage:
 ///   #include <fabsynth/vector_pattern.hpp>
@@ -54,6 +56,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -201,12 +204,16 @@ struct band_solid {
     return {.thickness = opt.thickness, .chord_tolerance = opt.chord_tolerance > 0.0 ? opt.chord_tolerance : opt.band_height / 1000.0};
 }
 
-/// Phase 3, planar curve, first half: the synthesis along it.
-inline void synthesize_planar_band(const exemplar& ex, const planar_curve& curve, const pattern_options& opt, band_solid& b) {
-    curve.check_band(0.5 * opt.band_height);  // the exemplar itself (|v| <= H/2) must fit the band
+/// Phase 3, first half for a curve (planar_curve or space_curve): check that the band fits the curve
+/// (the exemplar itself, |v| <= H/2), then the synthesis along it. Along a curve in space (space and
+/// surface bands) the drawing is the developed band; a planar curve's is mapped in its second half.
+template <class Curve>
+void synthesize_curve_band(const exemplar& ex, const Curve& curve, const pattern_options& opt, band_solid& b, const progress_span& progress = {}) {
+    curve.check_band(0.5 * opt.band_height);
     b.band_length = curve.length();
     b.closed = curve.closed();
-    b.synthesis = synthesize_along(ex, band_synthesis_options(opt, b.band_length, b.closed));
+    b.synthesis = synthesize_along(ex, band_synthesis_options(opt, b.band_length, b.closed), progress);
+    if constexpr (std::is_same_v<Curve, space_curve>) b.drawn = b.synthesis.polygons;
 }
 
 /// Phase 3, planar curve, second half: the drawing (the result mapped onto the curve) and the slab
@@ -220,7 +227,8 @@ inline void extrude_planar_band(const planar_curve& curve, const pattern_options
 
 /// Phase 3, rectangle (§6.2), first half: synthesize_rectangle, with options.synthesis's
 /// components, holes and seed for the final rectangle and the rest as the base of both passes.
-inline void synthesize_rectangle_band(const exemplar& ex, const in_rectangle& rect, const pattern_options& opt, band_solid& b) {
+inline void synthesize_rectangle_band(const exemplar& ex, const in_rectangle& rect, const pattern_options& opt, band_solid& b,
+                                      const progress_span& progress = {}) {
     if (opt.synthesis.closed_loop) throw invalid_input("make_pattern: closed_loop needs a closed curve (a rectangle has none)");
     rectangle_options ro;
     ro.width = require_positive(rect.width, "make_pattern: rectangle width");
@@ -230,7 +238,7 @@ inline void synthesize_rectangle_band(const exemplar& ex, const in_rectangle& re
     ro.seed = opt.synthesis.seed;
     ro.base = opt.synthesis;
     ro.base.band_height = opt.band_height;
-    b.synthesis = synthesize_rectangle(ex, ro);
+    b.synthesis = synthesize_rectangle(ex, ro, progress);
     b.drawn = b.synthesis.polygons;
 }
 
@@ -238,15 +246,6 @@ inline void synthesize_rectangle_band(const exemplar& ex, const in_rectangle& re
 inline void extrude_rectangle_band(const pattern_options& opt, band_solid& b) {
     b.mesh = extrude(triangulate(b.drawn), opt.thickness);
     mirror_y(b.mesh);
-}
-
-/// Synthesis along a curve in space (phase 3 of space and surface bands): the developed band.
-inline void synthesize_space_band(const exemplar& ex, const space_curve& curve, const pattern_options& opt, band_solid& b) {
-    curve.check_band(0.5 * opt.band_height);  // the exemplar itself (|v| <= H/2) must fit the band
-    b.band_length = curve.length();
-    b.closed = curve.closed();
-    b.synthesis = synthesize_along(ex, band_synthesis_options(opt, b.band_length, b.closed));
-    b.drawn = b.synthesis.polygons;
 }
 
 /// The band's curve on a surface (first half of the surface phase).
@@ -312,8 +311,8 @@ inline void check_options(const pattern_options& opt) {
 ///                      it is scaled uniformly to height options.band_height
 /// @param[in] where     along_planar_curve, in_rectangle, along_space_curve or on_surface (lengths in mm)
 /// @param[in] options   see pattern_options (band_height is required)
-/// @param[in] progress  called as progress(fraction in [0, 1], stage) between the phases; returning
-///                      false throws fabsynth::cancelled at that point
+/// @param[in] progress  called as progress(fraction in [0, 1], stage) between the phases and at
+///                      every DP layer; returning false throws fabsynth::cancelled at that point
 /// Throws invalid_input for a request that cannot be built (a band that does not fit its curve,
 /// bad options, a surface that is neither a disk nor a closed genus-0 mesh), no_solution when no
 /// piece sequence meets the topology, solver_error for a result that fails its checks (a bug).
@@ -326,21 +325,20 @@ template <progress_callback P = no_progress>
     pattern_result out;
     ph::band_solid b;
     bool in_space = false, surface = false;
-    // (no inner call takes a progress callback: progress is reported between the phases only)
     if (const auto* c = std::get_if<along_planar_curve>(&where)) {
         report_progress(progress, 0.05, "synthesis");
-        ph::synthesize_planar_band(scaled_ex, c->curve, options, b);
+        ph::synthesize_curve_band(scaled_ex, c->curve, options, b, progress_span(progress, 0.05, 0.5));
         report_progress(progress, 0.5, "extrusion");
         ph::extrude_planar_band(c->curve, options, b);
     } else if (const auto* r = std::get_if<in_rectangle>(&where)) {
         report_progress(progress, 0.05, "synthesis");
-        ph::synthesize_rectangle_band(scaled_ex, *r, options, b);
+        ph::synthesize_rectangle_band(scaled_ex, *r, options, b, progress_span(progress, 0.05, 0.5));
         report_progress(progress, 0.5, "extrusion");
         ph::extrude_rectangle_band(options, b);
     } else if (const auto* s = std::get_if<along_space_curve>(&where)) {
         in_space = true;
         report_progress(progress, 0.05, "synthesis");
-        ph::synthesize_space_band(scaled_ex, s->curve, options, b);
+        ph::synthesize_curve_band(scaled_ex, s->curve, options, b, progress_span(progress, 0.05, 0.5));
         report_progress(progress, 0.5, "extrusion");
         b.mesh = extrude_along_space_curve(b.synthesis.polygons, s->curve, ph::extrude_options(options));
     } else {
@@ -351,7 +349,7 @@ template <progress_callback P = no_progress>
         out.edge_crossings = band.edge_crossings;
         out.cut_open = band.cut_open;
         report_progress(progress, 0.1, "synthesis");
-        ph::synthesize_space_band(scaled_ex, band.curve, options, b);
+        ph::synthesize_curve_band(scaled_ex, band.curve, options, b, progress_span(progress, 0.1, 0.5));
         report_progress(progress, 0.5, "decorate the surface");
         b.mesh = ph::decorated_surface(su, band.curve, b.synthesis, options);
     }

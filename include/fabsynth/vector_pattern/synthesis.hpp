@@ -84,6 +84,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/progress.hpp"
 #include "fabsynth/core/rng.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/dp/sequence_solver.hpp"
@@ -364,7 +365,7 @@ struct chosen_sequence {
 /// optimisation), autocorrelation beta, open (band ends first / last) or closed. Throws
 /// no_solution when no sequence meets the request.
 [[nodiscard]] inline chosen_sequence solve_piece_sequence(const prepared_pieces& pp, const dp::transition_table& table,
-                                                          const synthesis_options& opt) {
+                                                          const synthesis_options& opt, const progress_span& progress = {}) {
     const topology::constraints want{opt.components, opt.holes, opt.closed_loop};
     auto policy = topology::descriptor_policy::for_constraints(pp.descriptors, want);
     dp::sequence_options so;
@@ -379,7 +380,7 @@ struct chosen_sequence {
     so.last_pieces = pp.last;
     so.max_entries = opt.max_entries;
     const auto t0 = std::chrono::steady_clock::now();
-    chosen_sequence c{dp::solve_sequence(std::span<const double>(pp.widths), table, policy, want, so), 0.0};
+    chosen_sequence c{dp::solve_sequence(std::span<const double>(pp.widths), table, policy, want, so, progress), 0.0};
     c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return c;
 }
@@ -603,14 +604,16 @@ private:
 };
 
 /// The retry driver over phases 2-7: at most opt.max_attempts passes, then solver_error.
-[[nodiscard]] inline synthesis_result synthesize_prepared(const prepared_pieces& pp, const synthesis_options& opt) {
+/// `progress` receives the DP's layers (the first 80% of the span; a retry starts over) and the
+/// stitching of each attempt.
+[[nodiscard]] inline synthesis_result synthesize_prepared(const prepared_pieces& pp, const synthesis_options& opt, const progress_span& progress = {}) {
     retry_state retry;
     for (std::size_t attempt = 0; attempt < opt.max_attempts; ++attempt) {
         const cost_variation costs = retry.next_attempt(opt);
         const dp::transition_table table = junction_costs(pp, opt, retry.banned(), costs);
         std::optional<chosen_sequence> chosen;
         try {
-            chosen.emplace(solve_piece_sequence(pp, table, opt));
+            chosen.emplace(solve_piece_sequence(pp, table, opt, progress.part(0.0, 0.8)));
         } catch (const no_solution&) {
             if (!retry.drop_bans()) throw;  // nothing banned: the request itself is impossible
             continue;
@@ -628,6 +631,7 @@ private:
         res.achieved_length = sol.length;
         res.epsilon = sol.epsilon;
         for (std::size_t k : sol.pieces) res.sequence.push_back(pp.dp[k].original);
+        progress(0.8, "offsets and stitching");
         res.offsets = piece_offsets(pp, table, sol.pieces, opt);
         const stitch_targets targets = junction_targets(pp, sol.pieces, res.offsets, sol.length, opt);
         const stitched_rings stitched = deform_pieces(pp, sol.pieces, res.offsets, targets);
@@ -655,9 +659,12 @@ private:
 /// no_solution when the topology/length request cannot be met (including a length shorter than
 /// the shortest valid sequence, and a request met only beyond epsilon_max), solver_error if the
 /// produced geometry fails validation in every attempt.
-[[nodiscard]] inline synthesis_result synthesize_along(const exemplar& ex, const synthesis_options& opt) {
+/// `progress` (optional) is called from the DP's layers and between the phases; a caller's callback
+/// returning false there throws fabsynth::cancelled.
+[[nodiscard]] inline synthesis_result synthesize_along(const exemplar& ex, const synthesis_options& opt, const progress_span& progress = {}) {
     detail::check_options(ex, opt);
-    return detail::synthesize_prepared(detail::prepare_pieces(ex, opt), opt);
+    progress(0.0, "cut the exemplar");
+    return detail::synthesize_prepared(detail::prepare_pieces(ex, opt), opt, progress.part(0.05, 1.0));
 }
 
 /// Options of synthesize_rectangle (§6.2).
@@ -675,7 +682,7 @@ struct rectangle_options {
 /// synthesis' output, so the constraints hold exactly). Offsets are off in the second pass too: a
 /// slide would move material past u = 0 or u = W. Result in (u, v), u in [0, W], v in [0, H]; the
 /// final polygons are clipped to that rectangle and recounted (a mismatch is a solver_error).
-[[nodiscard]] inline synthesis_result synthesize_rectangle(const exemplar& ex, const rectangle_options& opt) {
+[[nodiscard]] inline synthesis_result synthesize_rectangle(const exemplar& ex, const rectangle_options& opt, const progress_span& progress = {}) {
     if (!(std::isfinite(opt.width) && opt.width > 0.0 && std::isfinite(opt.height) && opt.height > 0.0))
         throw invalid_input("synthesize_rectangle: width and height must be finite and > 0");
     synthesis_options a = opt.base;
@@ -686,7 +693,7 @@ struct rectangle_options {
     a.holes.reset();
     a.seed = opt.seed;
     a.optimize_offsets = false;
-    const synthesis_result first = synthesize_along(ex, a);
+    const synthesis_result first = synthesize_along(ex, a, progress.part(0.0, 0.5));
     // Rotate (u, v) -> (x, y) = (v, -u): a proper rotation, so orientations are kept.
     std::vector<exemplar_shape> shapes;
     for (const polygon_with_holes& p : first.polygons) {
@@ -710,7 +717,7 @@ struct rectangle_options {
     b.holes = opt.holes;
     b.seed = opt.seed == 0 ? 0 : opt.seed + 1;
     b.optimize_offsets = false;
-    synthesis_result second = synthesize_along(rotated, b);
+    synthesis_result second = synthesize_along(rotated, b, progress.part(0.5, 1.0));
     // Back: second pass (u2, v2) with y = v2 + c2 = -u1, so u = -(v2 + c2), v = u2. Proper rotation.
     const double c2 = second.v_centre;
     std::vector<ring2> rings;

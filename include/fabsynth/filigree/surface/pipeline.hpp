@@ -155,13 +155,13 @@ template <progress_callback P = no_progress>
     surface_filigree r;
 
     report_progress(progress, 0.05, "synthesis on the surface");
-    r.synthesis = synthesize_on_surface(classes, weights, base.region(), base.field(), opt.synthesis);
+    r.synthesis = synthesize_on_surface(classes, weights, base.region(), base.field(), opt.synthesis, progress_span(progress, 0.05, 0.6));
     r.seconds.synthesis = r.synthesis.seconds;
 
     report_progress(progress, 0.6, opt.reinforcement.enabled ? "bake and structure" : "bake");
     surface_reinforcement_options sro;
     sro.base = opt.reinforcement, sro.up = opt.up;
-    r.reinforcement = reinforce_on_surface(classes, weights, base.region(), base.field(), opt.synthesis, r.synthesis, sro);
+    r.reinforcement = reinforce_on_surface(classes, weights, base.region(), base.field(), opt.synthesis, r.synthesis, sro, progress_span(progress, 0.6, 0.8));
     r.seconds.structure = r.reinforcement.seconds;
 
     report_progress(progress, 0.8, "printable mesh");

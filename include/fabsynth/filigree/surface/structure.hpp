@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/progress.hpp"
 #include "fabsynth/core/union_find.hpp"
 #include "fabsynth/fem/mesh.hpp"
 #include "fabsynth/filigree/reinforcement.hpp"
@@ -177,7 +178,7 @@ namespace detail::surface {
 [[nodiscard]] inline surface_reinforcement_result reinforce_on_surface(std::span<const element> classes, std::span<const double> weights,
                                                                        const surface_region& region, const surface_control& field,
                                                                        const synthesis_options& so, const surface_synthesis_result& syn,
-                                                                       const surface_reinforcement_options& opt = {}) {
+                                                                       const surface_reinforcement_options& opt = {}, const progress_span& progress = {}) {
     namespace ds = detail::surface;
     require_positive(opt.base.thickness, "reinforce: thickness (mm)");
     const auto t0 = std::chrono::steady_clock::now();
@@ -205,7 +206,7 @@ namespace detail::surface {
         const std::uint32_t cls = reinforcement_class(weights);
         reinforcement_loop(
             best, r, opt.base, [&](const layout& l, double t) { return analyse_surface_structure(l.fem, t, opt.up, sopt); },
-            [&](const layout& l, const structural_report& rep, int round, std::size_t& added) -> std::optional<layout> {
+            [&](const layout& l, const structural_report& rep, int round, std::size_t& added, const progress_span& grow_progress) -> std::optional<layout> {
                 std::vector<surface_instance> in = l.instances;
                 for (const vec3& c : cluster_centres<vec3>(l.fem.vertices, rep.weak_nodes, 0.5 * classes[cls].size)) {
                     const surface_point at = ds::nearest_region_point(region, c);
@@ -217,7 +218,7 @@ namespace detail::surface {
                 again.max_rounds = opt.base.resynthesis_rounds;
                 again.seed = so.seed + 1000 * static_cast<std::uint64_t>(round + 1);
                 surface_synthesis_result res;
-                optimize_layout(s, again, res);
+                optimize_layout(s, again, res, grow_progress);
                 surface_cut_report cut;
                 layout next;
                 next.skeletons = surface_skeletons(s, so.topology_cut ? &cut : nullptr);
@@ -226,9 +227,11 @@ namespace detail::surface {
                 next.instances = s.instances();
                 return next;
             },
-            [&](const layout& l, double t) {
-                return thicken_with([&](double tt) { return analyse_surface_structure(l.fem, tt, opt.up, sopt); }, t, thickening_options{});
-            });
+            [&](const layout& l, double t, const progress_span& thicken_progress) {
+                return thicken_with([&](double tt) { return analyse_surface_structure(l.fem, tt, opt.up, sopt); }, t, thickening_options{},
+                                    thicken_progress);
+            },
+            progress);
         r.instances = std::move(best.instances), r.skeletons = std::move(best.skeletons), r.baked = std::move(best.baked);
         r.pieces_dropped = best.dropped, r.dropped_area_fraction = best.dropped_fraction;
         r.fem_nodes = best.fem.vertices.size();

@@ -21,6 +21,7 @@
 #include <span>
 #include <vector>
 
+#include "fabsynth/core/progress.hpp"
 #include "fabsynth/filigree/surface/space.hpp"
 #include "fabsynth/filigree/surface/topology_cut.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
@@ -71,7 +72,7 @@ struct surface_synthesis_result {
 /// opt.topology_cut, their topology cut.
 [[nodiscard]] inline surface_synthesis_result synthesize_on_surface(std::span<const element> classes, std::span<const double> weights,
                                                                     const surface_region& region, const surface_control& field,
-                                                                    const synthesis_options& opt = {}) {
+                                                                    const synthesis_options& opt = {}, const progress_span& progress = {}) {
     namespace ds = detail::synthesis;
     surface_synthesis_result r;
     auto t = ds::clock::now();
@@ -81,7 +82,9 @@ struct surface_synthesis_result {
     r.initial = init.instances;
     r.seconds.initialization = ds::since(t);
     surface_space s(classes, r.initial, field, region, opt.gamma_boundary);
-    optimize_layout(s, opt, r);
+    progress(0.05, "placement");
+    optimize_layout(s, opt, r, progress.part(0.05, 0.95));
+    progress(0.95, "topology cut");
     r.instances = s.instances();
     t = ds::clock::now();
     r.skeletons = surface_skeletons(s, opt.topology_cut ? &r.cut : nullptr);
