@@ -94,6 +94,23 @@ inline bool any_contact(const std::vector<std::vector<vec2>>& lines, const std::
     return fabsynth::detail::any_segment_pair(segs, [&](std::size_t i, std::size_t j) { return contact(edges[i], edges[j]); });
 }
 
+/// The vertices of a polyline as the curves keep them: every point finite, consecutive duplicates
+/// dropped (and, closed, a repeated first point at the end), at least 2 distinct points (3 when
+/// closed). `what` names the curve in errors (invalid_input).
+template <class V>
+[[nodiscard]] std::vector<V> polyline_vertices(std::vector<V> points, bool closed, const std::string& what) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+        if (!all_finite(points[i])) throw invalid_input(what + ": point " + std::to_string(i) + " is not finite");
+    std::vector<V> p;
+    for (const V& q : points)
+        if (p.empty() || q != p.back()) p.push_back(q);
+    if (closed)
+        while (p.size() > 1 && p.back() == p.front()) p.pop_back();
+    if (p.size() < 2 || (closed && p.size() < 3))
+        throw invalid_input(what + ": needs at least " + std::string(closed ? "3" : "2") + " distinct points, got " + std::to_string(p.size()));
+    return p;
+}
+
 /// Arc length s wrapped to [0, L) on a closed curve, clamped to [0, L] on an open one.
 [[nodiscard]] inline double wrap_arc_length(double s, double length, bool closed) noexcept {
     if (!closed) return std::clamp(s, 0.0, length);
@@ -138,16 +155,7 @@ public:
     /// invalid_input for non-finite points, fewer than 2 distinct points (3 when closed), or a
     /// vertex where the polyline turns back by 180 degrees.
     [[nodiscard]] static planar_curve polyline(std::vector<vec2> points, bool closed) {
-        for (std::size_t i = 0; i < points.size(); ++i)
-            if (!all_finite(points[i])) throw invalid_input("curve: point " + std::to_string(i) + " is not finite");
-        std::vector<vec2> p;
-        for (const vec2& q : points)
-            if (p.empty() || q != p.back()) p.push_back(q);
-        if (closed)
-            while (p.size() > 1 && p.back() == p.front()) p.pop_back();
-        if (p.size() < 2 || (closed && p.size() < 3))
-            throw invalid_input("curve: needs at least " + std::string(closed ? "3" : "2") +
-                                " distinct points, got " + std::to_string(p.size()));
+        std::vector<vec2> p = detail::curve::polyline_vertices(std::move(points), closed, "curve");
         planar_curve c;
         c.closed_ = closed;
         c.points_ = std::move(p);

@@ -195,16 +195,7 @@ public:
 private:
     // The vertices, arc lengths and segment tangents; checks and drops duplicates as polyline().
     [[nodiscard]] static space_curve with_vertices(std::vector<vec3> points, bool closed) {
-        for (std::size_t i = 0; i < points.size(); ++i)
-            if (!all_finite(points[i])) throw invalid_input("space curve: point " + std::to_string(i) + " is not finite");
-        std::vector<vec3> p;
-        for (const vec3& q : points)
-            if (p.empty() || q != p.back()) p.push_back(q);
-        if (closed)
-            while (p.size() > 1 && p.back() == p.front()) p.pop_back();
-        if (p.size() < 2 || (closed && p.size() < 3))
-            throw invalid_input("space curve: needs at least " + std::string(closed ? "3" : "2") + " distinct points, got " +
-                                std::to_string(p.size()));
+        std::vector<vec3> p = detail::curve::polyline_vertices(std::move(points), closed, "space curve");
         space_curve c;
         c.closed_ = closed;
         c.points_ = std::move(p);
