@@ -199,6 +199,9 @@ public:
 
     /// Human-readable line: stdout normally, stderr with --json (stdout then holds JSON only).
     void say(const std::string& line) const { (json_ ? std::cerr : std::cout) << line << "\n"; }
+    /// A warning on stderr ("fabsynth: warning: ..."), also with --quiet: the result is written but
+    /// falls short of what was asked.
+    void warn(const std::string& what) const { std::cerr << "fabsynth: warning: " << what << "\n"; }
 
     /// Adds fields to the JSON summary (printed by run() after success, with "tool" and "version").
     void summary(const nlohmann::ordered_json& fields) { summary_.update(fields); }

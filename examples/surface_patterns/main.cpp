@@ -73,7 +73,7 @@ nlohmann::ordered_json structure_json(const sp::structure_report& rep) {
             {"components_before", it.components_before}, {"components_after", it.components_after},
             {"added_connect", it.added_connect}, {"added_force", it.added_force}, {"added_geodesic", it.added_geodesic},
             {"max_stress_mpa", it.max_stress_mpa}, {"max_stress_after_mpa", it.max_stress_after_mpa},
-            {"allowable_stress_mpa", it.allowable_stress_mpa}, {"force_bound_hit", it.force_bound_hit},
+            {"allowable_stress_mpa", it.allowable_stress_mpa}, {"load_n", it.load_n}, {"force_bound_hit", it.force_bound_hit},
             {"geodesic_threshold_mm", it.geodesic_threshold_mm},
             {"max_geodesic_mm", it.max_geodesic_mm},  // null (inf) while a piece is cut off
             {"solves", it.solves}, {"beam_width_mm", it.beam_width_mm},
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
     tool::common common(app);
     std::string mesh_path, mask_path, colour_path, out_dir, material_name = "abs";
     double size = 0, thickness = 0, feature = 0, scale = 0, jitter = 0.1, min_feature = -1, max_memory_gib = 16;
-    double geodesic = 1.5, design_load = 10;
+    double geodesic = 1.5, design_load = 0, load_factor = 20;
     int resolution = 256, levels = 0, passes = 2, candidates = 128, smoothing = 20, max_iterations = 30;
     std::size_t samples = 1000;
     std::vector<double> up{0, 0, 1}, gravity{0, 0, -1};
@@ -127,7 +127,8 @@ int main(int argc, char** argv) {
     app.add_option("--samples", samples, "abstract graph vertices (paper: 1000)")->check(CLI::Range(2, 100000));
     app.add_option("--geodesic", geodesic, "geodesic criterion: reinforce empty edges whose endpoints are farther apart in the pattern than F x the object's extent (0 = off)")
         ->check(CLI::NonNegativeNumber);
-    app.add_option("--design-load", design_load, "total force of the force profile (N), spread over the abstract vertices")->check(CLI::NonNegativeNumber);
+    app.add_option("--load-factor", load_factor, "force profile: the pattern's own weight times this factor, along --gravity")->check(CLI::NonNegativeNumber);
+    app.add_option("--design-load", design_load, "force profile: a fixed total force (N) instead of the weight rule, spread over the abstract vertices (0 = the weight rule)")->check(CLI::NonNegativeNumber);
     app.add_option("--max-iterations", max_iterations, "bound on structural iterations (paper: 3-24)")->check(CLI::Range(1, 1000));
     app.add_flag("--stages", stages, "also write solid_connected.vtk and solid_forces.vtk (Table 3 stages)");
     app.add_flag("--validate", validate, "full-resolution voxel FEM of the result (and of the stages): stress statistics in report.json");
@@ -181,7 +182,7 @@ int main(int argc, char** argv) {
         po.synthesis = {.mm_per_px = scale, .candidates = candidates, .jitter = jitter, .up = up_dir, .passes = passes, .seed = seed};
         po.structure = !no_structure, po.max_iterations = max_iterations, po.stages = stages, po.validate = validate;
         po.structural.target_samples = samples, po.structural.seed = seed, po.structural.material = material;
-        po.structural.design_load_n = design_load, po.structural.gravity = gravity_dir, po.structural.geodesic_factor = geodesic;
+        po.structural.design_load_n = design_load, po.structural.load_factor = load_factor, po.structural.gravity = gravity_dir, po.structural.geodesic_factor = geodesic;
         const sp::pattern_result res = sp::make_pattern(mesh, std::move(ex), po, progress);
 
         // everything is computed: write the set
@@ -233,6 +234,11 @@ int main(int argc, char** argv) {
             {"solid_fraction", res.solid_fraction},
             {"solid_fraction_synthesized", res.solid_fraction_synthesized},
             {"exemplar_solid_fraction", res.exemplar_solid_fraction},
+            {"synthesized_voxels", res.synthesized_voxels},
+            {"final_voxels", res.final_voxels},
+            {"reinforcement_voxels", res.reinforcement_voxels},
+            {"thin_feature_voxels_state4", res.thin_feature_voxels},
+            {"reinforcement_ratio", res.reinforcement_ratio()},
             {"specks_removed", res.specks.removed_components},
             {"speck_voxels_removed", res.specks.removed_voxels},
         };
@@ -240,9 +246,11 @@ int main(int argc, char** argv) {
             rep["material"] = material.name;
             rep["gravity"] = gravity;
             rep["design_load_n"] = design_load;
+            rep["load_factor"] = load_factor;
             rep["allowable_stress_mpa"] = po.structural.allowable_stress_mpa();
             rep["geodesic_factor"] = geodesic;
             rep["structural"] = structure_json(res.structure);
+            rep["overloaded"] = res.structure.overloaded;
             rep["solves"] = solves;
             rep["thin_feature_voxels"] = res.thin_features.added_voxels;
         }
@@ -267,19 +275,27 @@ int main(int argc, char** argv) {
 
         char line[640];
         std::snprintf(line, sizeof line,
-                      "%s: %zu shell voxels, %zu levels, solid fraction %.3f (exemplar %.3f), %zu structural iterations (%s), %zu solves, "
+                      "%s: %zu shell voxels, %zu levels, solid fraction %.3f (exemplar %.3f), reinforcement %.2f x the synthesized solid, %zu structural iterations (%s), %zu solves, "
                       "%zu solid voxels in %zu 26-components, pattern.stl %zu faces %s; synthesis %.2f s, structure %.2f s, total %.2f s",
                       fs::path(mesh_path).filename().string().c_str(), res.shell_voxels.size(), res.pyramid_levels, res.solid_fraction,
-                      res.exemplar_solid_fraction, res.structure.iterations.size(), no_structure ? "off" : res.structure.converged ? "converged" : "bound hit",
+                      res.exemplar_solid_fraction, res.reinforcement_ratio(), res.structure.iterations.size(), no_structure ? "off" : res.structure.converged ? "converged" : "bound hit",
                       solves, res.thickened.voxels.size(), res.components_26, res.mesh.num_faces(), res.watertight ? "watertight" : "NOT watertight",
                       ts.synthesis, ts.structural_analysis, total);
         common.say(line);
+        if (!no_structure && res.structure.overloaded) {
+            const sp::structural_step_report& last = res.structure.iterations.back();
+            common.warn("the pattern is connected but its beam model still has solid edges at " + std::to_string(last.max_stress_after_mpa) +
+                        " MPa, above the allowable " + std::to_string(last.allowable_stress_mpa) + " MPa (" +
+                        (last.force_bound_hit ? "the force phase hit its bound of solves" : "no empty edge was left to insert") +
+                        "); report.json: overloaded");
+        }
         nlohmann::ordered_json outs = nlohmann::ordered_json::array();
         for (const fs::path& o : outputs) outs.push_back(o.string());
         common.summary({{"shell_voxels", res.shell_voxels.size()},
                         {"levels", res.pyramid_levels},
                         {"solid_fraction", res.solid_fraction},
                         {"exemplar_solid_fraction", res.exemplar_solid_fraction},
+                        {"reinforcement_ratio", res.reinforcement_ratio()},
                         {"structural_iterations", res.structure.iterations.size()},
                         {"converged", no_structure || res.structure.converged},
                         {"components_26", res.components_26},

@@ -133,6 +133,37 @@ TEST_CASE("structure step: bridges follow the force profile", "[surface_pattern]
     CHECK(ed != es);
 }
 
+TEST_CASE("structure step: the force phase runs until no solid edge is overloaded, and only as long as one is", "[surface_pattern][structure]") {
+    bunny_case b("hooks.png", 5, 4);
+    auto run = [&](double load_n) {
+        std::vector<std::uint8_t> solid = b.r.solid, reinforcement;
+        sp::structure_options o = b.options(5);
+        o.geodesic_factor = 0;
+        o.design_load_n = load_n;
+        return sp::structural_step(b.gs, b.l0(), solid, reinforcement, o);
+    };
+    // a load under which the connected pattern is strong enough: connection only
+    const sp::structural_step_report light = run(1e-3);
+    INFO("light: max " << light.max_stress_after_mpa << " MPa");
+    CHECK(light.added_force == 0);
+    CHECK(light.max_stress_after_mpa < light.allowable_stress_mpa);
+    // stresses are linear in the load: 1e4 times heavier overloads the same connected pattern
+    const sp::structural_step_report heavy = run(10.0);
+    INFO("heavy: " << heavy.added_force << " force bridges, max " << heavy.max_stress_after_mpa << " MPa");
+    CHECK(heavy.load_n == 10.0);
+    CHECK(heavy.added_connect == light.added_connect);
+    CHECK(heavy.added_force > 0);
+    CHECK((heavy.max_stress_after_mpa <= heavy.allowable_stress_mpa || heavy.force_bound_hit));
+    // the default profile is the pattern's weight times load_factor (ABS, g = 9.81 m/s^2)
+    std::vector<std::uint8_t> solid = b.r.solid, reinforcement;
+    sp::structure_options o = b.options(5);
+    o.geodesic_factor = 0;
+    const sp::structural_step_report weight = sp::structural_step(b.gs, b.l0(), solid, reinforcement, o);
+    const double n_solid = static_cast<double>(std::count(b.r.solid.begin(), b.r.solid.end(), std::uint8_t{1}));
+    const double expected_n = o.load_factor * n_solid * b.h * b.h * o.thickness_mm * 1.04e-9 * 9810.0;  // ABS 1.04 g/cm^3
+    CHECK(weight.load_n == Approx(expected_n).epsilon(0.02));
+}
+
 TEST_CASE("structure step: the geodesic criterion bridges edges whose ends are far apart in the pattern", "[surface_pattern][structure]") {
     bunny_case b("hooks.png", 5, 7);
     auto run = [&](double factor, std::vector<std::uint8_t>& solid) {

@@ -150,6 +150,15 @@ struct pattern_result {
     double exemplar_solid_fraction = 0;
     double solid_fraction_synthesized = 0;  ///< of the shell voxels, after SYNTHESIZE
     double solid_fraction = 0;              ///< of the shell voxels, at the end
+    std::size_t synthesized_voxels = 0;     ///< solid shell voxels after SYNTHESIZE
+    std::size_t final_voxels = 0;           ///< solid shell voxels at the end (states 2-4)
+    std::size_t reinforcement_voxels = 0;   ///< state 3: laid by the bridges of §5.2
+    std::size_t thin_feature_voxels = 0;    ///< state 4: laid by the enlargement of thin features (§6.2.1)
+    /// What the structure added, (state 3 + state 4) / synthesized: the share of the print that is
+    /// not the exemplar's (0 without any; the paper's Table 1 bunny with hooks: about 0.6).
+    [[nodiscard]] double reinforcement_ratio() const noexcept {
+        return synthesized_voxels ? static_cast<double>(reinforcement_voxels + thin_feature_voxels) / static_cast<double>(synthesized_voxels) : 0.0;
+    }
     speck_report specks;
     structure_report structure;        ///< empty when options.structure is false
     thin_feature_report thin_features;
@@ -248,6 +257,7 @@ template <progress_callback P = no_progress>
     out.levels = result.levels;
     out.mm_per_px = syn.options().mm_per_px;
     const auto count_solid = [&] { return static_cast<double>(std::count(result.solid.begin(), result.solid.end(), std::uint8_t{1})); };
+    out.synthesized_voxels = static_cast<std::size_t>(count_solid());
     out.solid_fraction_synthesized = count_solid() / static_cast<double>(l0.size());
     out.specks = remove_specks(l0.geometry, l0.voxels, result.solid, out.min_feature_mm);
 
@@ -290,6 +300,9 @@ template <progress_callback P = no_progress>
                                                  : added[v]      ? voxel_state::reinforcement
                                                                  : voxel_state::exemplar);
     out.solid_fraction = count_solid() / static_cast<double>(l0.size());
+    out.final_voxels = static_cast<std::size_t>(count_solid());
+    out.reinforcement_voxels = static_cast<std::size_t>(std::count(out.state.begin(), out.state.end(), static_cast<std::uint8_t>(voxel_state::reinforcement)));
+    out.thin_feature_voxels = static_cast<std::size_t>(std::count(out.state.begin(), out.state.end(), static_cast<std::uint8_t>(voxel_state::thin_feature)));
 
     // 5. fabrication
     report_progress(progress, 0.7, "fabrication");
