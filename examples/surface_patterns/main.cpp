@@ -1,7 +1,7 @@
 // surface_patterns MESH --exemplar MASK.png [--color COLOR.png] --size MM --thickness MM --feature PX
 //                  [--resolution N] [--scale MM_PER_PX] [--up X Y Z] [--jitter F] [--seed S]
 //                  [--gravity X Y Z] [--material abs|pla] [--samples N] [--geodesic F]
-//                  [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure]
+//                  [--load-factor F] [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure]
 //                  -o OUTDIR
 //
 // By-example synthesis of a structurally sound pattern in the voxel shell of a mesh
