@@ -141,18 +141,9 @@ void load_classes(const std::vector<element_arg>& elements, double scale, double
     }
 }
 
-// The area of the smallest covering region among classes of positive weight, times s_min^2
-// (infinite when every weight is 0).
-double smallest_cover(const std::vector<element>& classes, const std::vector<double>& weights, double s_min) {
-    double smallest = std::numeric_limits<double>::infinity();
-    for (std::size_t c = 0; c < classes.size(); ++c)
-        if (weights[c] > 0) smallest = std::min(smallest, classes[c].covering_area * s_min * s_min);
-    return smallest;
-}
-
-// The pattern's size before any work: initialization covers >= 40% new area per element.
-void check_work(double area, double smallest, double max_elements, const char* where) {
-    tool::require_work(area / (0.4 * smallest), max_elements, 25.0, "element instances", "--max-elements",
+// The pattern's size before any work (initialization.hpp's estimate).
+void check_work(double area, double smallest, const filigree_options& opt, double max_elements, const char* where) {
+    tool::require_work(estimated_instances(area, smallest, opt.synthesis.init), max_elements, 25.0, "element instances", "--max-elements",
                        std::string(where) + std::to_string(area) + " mm^2 with elements of " + std::to_string(smallest) + " mm^2",
                        "or a larger --scale");
 }
@@ -218,7 +209,7 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     }
     if (!rq.scale_file.empty()) opt.vertex_scale = io::read_numbers(rq.scale_file);
     const surface_filigree_base base(std::move(mesh), opt);
-    check_work(base.region().area, smallest_cover(classes, weights, 1.0), max_elements, "a region of ");
+    check_work(base.region().area, smallest_covering_area(classes, weights), opt, max_elements, "a region of ");
 
     const surface_filigree f = make_filigree(classes, weights, base, opt, progress_between(progress, 0.0, 0.95));
     const surface_synthesis_result& syn = f.synthesis;
@@ -368,27 +359,16 @@ int main(int argc, char** argv) {
         std::vector<double> weights;
         load_classes(elements, scale, width, tolerance, classes, weights);
         {
-            const double smallest = smallest_cover(classes, weights, field_scale.empty() ? 1.0 : std::min(field_scale[0], field_scale[1]));
+            const double smallest = smallest_covering_area(classes, weights, field_scale.empty() ? 1.0 : std::min(field_scale[0], field_scale[1]));
             if (!std::isfinite(smallest)) throw invalid_input("--element: every class has weight 0");
             tool::require_range(max_elements, 1, 1e6, "--max-elements", "");
-            check_work(domain.area, smallest, max_elements, "a domain of ");
+            check_work(domain.area, smallest, opt, max_elements, "a domain of ");
             opt.synthesis.init.max_elements = static_cast<std::size_t>(max_elements);
         }
         any_field field = constant_field{rotation_deg * std::numbers::pi / 180.0, 1.0};
         std::string field_kind = "constant";
         if (!field_image.empty()) {
-            image8 img = io::read_png(field_image);
-            if (img.channels != 1) {  // luminance of colour pictures
-                image8 g(img.width, img.height, 1);
-                for (int y = 0; y < img.height; ++y)
-                    for (int x = 0; x < img.width; ++x) {
-                        int s = 0;
-                        for (int c = 0; c < std::min(3, img.channels); ++c) s += img.at(x, y, c);
-                        g.at(x, y) = static_cast<std::uint8_t>(s / std::min(3, img.channels));
-                    }
-                img = std::move(g);
-            }
-            field = image_field(std::move(img), domain.bounds, field_scale[0], field_scale[1], rotation_deg * std::numbers::pi / 180.0);
+            field = image_field(grey_levels(io::read_png(field_image)), domain.bounds, field_scale[0], field_scale[1], rotation_deg * std::numbers::pi / 180.0);
             field_kind = "image";
         }
 

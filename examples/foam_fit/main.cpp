@@ -33,11 +33,11 @@
 #include <fabsynth/core/parallel.hpp>
 #include <fabsynth/foam/elasticity_study.hpp>
 #include <fabsynth/foam/elasticity_text.hpp>
+#include <fabsynth/foam/fit_plot.hpp>
 #include <fabsynth/io/atomic_file.hpp>
 #include <fabsynth/io/image.hpp>
 
 #include "output_set.hpp"
-#include "plot.hpp"
 #include "tool.hpp"
 
 namespace {
@@ -164,7 +164,7 @@ int main(int argc, char** argv) {
         const foam::elasticity_fit_report r = foam::run_elasticity_fit(c, &cache, progress);
         if (!csv_path.empty()) io::atomic_write(csv_file, foam::format_samples_csv(r.samples));
         if (!header_path.empty()) io::atomic_write(header_file, foam::format_elasticity_fit_header(c, r));
-        if (!plot_path.empty()) io::write_png(plot_file, foam_fit_plot::draw_plot(c, r));
+        if (!plot_path.empty()) io::write_png(plot_file, foam::draw_elasticity_fit(c, r));
         outputs.commit();
         std::ostringstream out;
         char buf[512];

@@ -256,17 +256,14 @@ int main(int argc, char** argv) {
         const framed_foam obj(foam, md, fo);
 
         const box3 bb = bounding_box(mesh);
-        {  // the cost of the stack, before it is planned (a 0.003 mm pixel over 40 mm is 2e12 evaluations)
-            const double layers = std::max(1.0, std::floor(bb.size().z / (layer > 0 ? layer : pixel)));
-            const double slices = nslices > 0 ? std::min<double>(nslices, layers) : layers;
-            const double px = std::ceil(bb.size().x / pixel + 2) * std::ceil(bb.size().y / pixel + 2);
+        {  // the cost of the stack, before it is planned
+            const slice_stack_cost cost = estimate_slice_stack(bb, pixel, layer, nslices, supersample, static_cast<double>(slice_options{}.slab_bytes));
+            const double px = cost.pixels_per_slice;
             char what[160];
-            std::snprintf(what, sizeof what, "a stack of %.0f slices of %.3g pixels (%.3g mm) at supersample %d", slices, px, pixel, supersample);
-            // the slab of slices rendered at once, the four preview copies, the PNG encoder's buffer
-            // and the side-by-side preview
-            const double slab = std::max(px, std::min(slices * px, static_cast<double>(slice_options{}.slab_bytes)));
-            tool::require_memory(slab + px * (4 + 2 + 4), max_memory_gib, what);
-            tool::require_work(slices * px * supersample * supersample, max_pixels, slice_pixels_per_second, "pixel evaluations", "--max-pixels", what);
+            std::snprintf(what, sizeof what, "a stack of %.0f slices of %.3g pixels (%.3g mm) at supersample %d", cost.slices, px, pixel, supersample);
+            // the slab, the four preview copies, the PNG encoder's buffer and the side-by-side preview
+            tool::require_memory(cost.slab_bytes + px * (4 + 2 + 4), max_memory_gib, what);
+            tool::require_work(cost.evaluations, max_pixels, slice_pixels_per_second, "pixel evaluations", "--max-pixels", what);
         }
         const slice_stack stack = plan_slice_stack(bb, pixel, layer, nslices);
         const box2& region = stack.region;

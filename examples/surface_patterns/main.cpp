@@ -157,9 +157,7 @@ int main(int argc, char** argv) {
         if (!(glm::length(gravity_dir) > 0) || !all_finite(gravity_dir)) throw invalid_input("--gravity must be a finite non-zero direction");
         const sp::print_material material = sp::print_material::named(material_name);
         if (validate) {
-            // the voxel FEM needs ~0.7 KB per node of the analysed box (validation.hpp): refuse before working
-            const double nodes = std::pow(static_cast<double>(resolution) + 1, 3);
-            tool::require_memory(700.0 * nodes, max_memory_gib, "--validate at --resolution " + std::to_string(resolution) + " (voxel FEM)");
+            tool::require_memory(sp::validation_bytes(resolution), max_memory_gib, "--validate at --resolution " + std::to_string(resolution) + " (voxel FEM)");
         }
 
         // Staged now (an unwritable OUTDIR is refused before the work), moved into OUTDIR together at

@@ -6,8 +6,8 @@
 /// mesh), beam-network export and the elasticity -> (rho, tau) inverse mapping.
 ///
 /// The elasticity fit itself (homogenized samples, the grid run, its text outputs) is in
-/// foam/elasticity_samples.hpp, foam/elasticity_study.hpp and foam/elasticity_text.hpp, included
-/// on their own because they pull in the FEM (fem/homogenization.hpp).
+/// foam/elasticity_samples.hpp, foam/elasticity_study.hpp, foam/elasticity_text.hpp and its figure
+/// foam/fit_plot.hpp, included on their own because they pull in the FEM (fem/homogenization.hpp).
 #include "fabsynth/foam/beams.hpp"
 #include "fabsynth/foam/elasticity.hpp"
 #include "fabsynth/foam/evaluator.hpp"

@@ -51,3 +51,19 @@ TEST_CASE("progress callbacks: void, bool and type-erased", "[core][progress]") 
     static_assert(progress_callback<no_progress>);
     static_assert(!progress_callback<int>);
 }
+
+TEST_CASE("grey_levels: grey kept, grey+alpha drops alpha, colour averaged", "[core][image]") {
+    image8 g(2, 1, 1);
+    g.at(0, 0) = 7, g.at(1, 0) = 250;
+    CHECK(grey_levels(g) == g);
+    image8 ga(1, 1, 2);
+    ga.at(0, 0, 0) = 90, ga.at(0, 0, 1) = 0;  // transparent: the grey level still counts
+    CHECK(grey_levels(ga).at(0, 0) == 90);
+    image8 rgba(2, 1, 4, 255);
+    rgba.at(0, 0, 0) = 255, rgba.at(0, 0, 1) = 0, rgba.at(0, 0, 2) = 0;  // pure red: 85
+    rgba.at(1, 0, 0) = 10, rgba.at(1, 0, 1) = 20, rgba.at(1, 0, 2) = 31;  // 61 / 3 = 20
+    const image8 r = grey_levels(rgba);
+    CHECK(r.channels == 1);
+    CHECK(r.at(0, 0) == 85);
+    CHECK(r.at(1, 0) == 20);
+}

@@ -188,6 +188,16 @@ TEST_CASE("initialization: every accepted element meets the three overlap rules 
         CHECK(dom.contains(r.instances[k].position));
     }
     CHECK(r.covered_fraction > 0.6);
+    // the work estimate tools refuse oversized domains with: by rule (1) every instance adds at
+    // least 40% of its region to the union of the covering regions
+    std::vector<polygon_with_holes> all;
+    for (const placed& g : geo) {
+        const auto c = cover_of(g);
+        all.insert(all.end(), c.begin(), c.end());
+    }
+    const double union_area = area(polygon_union(all, {}));
+    CHECK(static_cast<double>(r.instances.size()) <= estimated_instances(union_area, smallest_covering_area(cls, w)));
+    CHECK(union_area < 1.3 * dom.area);  // elements stick out of the domain by a margin only
 }
 
 TEST_CASE("initialization: class proportions follow the weights", "[filigree][init]") {

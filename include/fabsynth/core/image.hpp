@@ -40,6 +40,22 @@ private:
 using image8 = image<std::uint8_t>;    ///< 8-bit samples (PNG/PGM)
 using image16 = image<std::uint16_t>;  ///< 16-bit samples (PNG/PGM with maxval > 255)
 
+/// A single-channel picture of `img`: the grey level itself for grey and grey+alpha pictures
+/// (channels 1, 2), the integer mean (R + G + B) / 3 for RGB and RGBA (3, 4). Alpha is ignored.
+[[nodiscard]] inline image8 grey_levels(const image8& img) {
+    if (img.channels <= 2) {
+        if (img.channels == 1) return img;
+        image8 g(img.width, img.height, 1);
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) g.at(x, y) = img.at(x, y, 0);
+        return g;
+    }
+    image8 g(img.width, img.height, 1);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) g.at(x, y) = static_cast<std::uint8_t>((img.at(x, y, 0) + img.at(x, y, 1) + img.at(x, y, 2)) / 3);
+    return g;
+}
+
 /// Single-channel images of one size side by side, left to right, `gap` pixels of `background`
 /// between them; flip_y turns each upside down (slices stored with row 0 at the bottom become
 /// pictures with +y up). Throws invalid_input for an empty list or images of different sizes.

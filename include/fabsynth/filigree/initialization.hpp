@@ -57,6 +57,26 @@ struct initialization_options {
     std::uint64_t seed = 1;
 };
 
+/// The smallest covering region (mm^2) among the classes of positive weight, each scaled by
+/// `min_scale` (the smallest scale factor of the control field): the element that packs densest.
+/// Infinite when every weight is 0. `weights`: one per class.
+[[nodiscard]] inline double smallest_covering_area(std::span<const element> classes, std::span<const double> weights, double min_scale = 1.0) {
+    if (weights.size() != classes.size()) throw invalid_input("smallest_covering_area: one weight per element class is needed");
+    double smallest = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < classes.size(); ++c)
+        if (weights[c] > 0) smallest = std::min(smallest, classes[c].covering_area * min_scale * min_scale);
+    return smallest;
+}
+
+/// An estimate of the most instances initialization places in a domain of `area` mm^2 with
+/// elements whose smallest covering region is `smallest_cover` mm^2 (smallest_covering_area): by
+/// rule (1) each new instance covers at least (1 - max_union_overlap) of its region anew, so this
+/// bounds the count when `area` is the union of the regions (the domain plus what sticks out of
+/// it). For refusing oversized work before any is done.
+[[nodiscard]] inline double estimated_instances(double area, double smallest_cover, const initialization_options& opt = {}) {
+    return area / ((1.0 - opt.max_union_overlap) * smallest_cover);
+}
+
 /// What initialization produced.
 struct initialization_result {
     std::vector<instance> instances;

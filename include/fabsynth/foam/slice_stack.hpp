@@ -60,4 +60,26 @@ struct slice_stack {
     return st;
 }
 
+/// What a stack would cost, estimated from its box alone (nothing is allocated), so a caller can
+/// refuse an oversized stack before planning it (a 0.003 mm pixel over 40 mm is 2e12 evaluations).
+struct slice_stack_cost {
+    double slices = 0;            ///< slices that would be rendered (count, or every layer)
+    double pixels_per_slice = 0;  ///< of the region plan_slice_stack would choose
+    double evaluations = 0;       ///< point evaluations: slices x pixels x supersample^2
+    double slab_bytes = 0;        ///< images for_each_slice holds at once (one byte per pixel; at least one slice)
+};
+
+/// The cost of plan_slice_stack(bb, pixel, layer, count) sliced at `supersample`^2 samples per
+/// pixel by for_each_slice with a slab limit of `slab_bytes` (slice_options::slab_bytes). The
+/// arguments are not checked here (plan_slice_stack does).
+[[nodiscard]] inline slice_stack_cost estimate_slice_stack(const box3& bb, double pixel, double layer, int count, int supersample, double slab_bytes) {
+    slice_stack_cost c;
+    const double layers = std::max(1.0, std::floor(bb.size().z / (layer > 0 ? layer : pixel)));
+    c.slices = count > 0 ? std::min<double>(count, layers) : layers;
+    c.pixels_per_slice = std::ceil(bb.size().x / pixel + 2) * std::ceil(bb.size().y / pixel + 2);
+    c.evaluations = c.slices * c.pixels_per_slice * supersample * supersample;
+    c.slab_bytes = std::max(c.pixels_per_slice, std::min(c.slices * c.pixels_per_slice, slab_bytes));
+    return c;
+}
+
 }  // namespace fabsynth::foam

@@ -88,7 +88,7 @@ struct pattern_options {
     bool validate = false;       ///< voxel FEM of every solid (§6.3); needs about 0.7 KB per node of the grid box
     bool preview = true;         ///< render the preview picture
     int preview_size = 768;      ///< pixels of one view of the preview (the picture is two views wide)
-    double max_memory_bytes = 16.0 * (1ull << 30);  ///< refuse shells estimated to need more (before voxelizing)
+    double max_memory_bytes = 16.0 * (1ull << 30);  ///< refuse shells (and validate = true runs: validation_bytes) estimated to need more, before any work
 
     /// Throws invalid_input naming the first bad value (the structural options are checked by
     /// the loop itself, the synthesis options by the synthesizer).
@@ -104,6 +104,10 @@ struct pattern_options {
         if (smoothing < 0 || smoothing > 200) throw invalid_input("surface pattern: smoothing must be in [0, 200]");
         if (max_iterations < 1) throw invalid_input("surface pattern: max_iterations must be >= 1");
         if (!structure && (stages || validate)) throw invalid_input("surface pattern: stages and validation need the structural loop (structure = true)");
+        if (validate && !(validation_bytes(resolution) <= max_memory_bytes))
+            throw invalid_input("surface pattern: validation at resolution " + std::to_string(resolution) + " needs about " +
+                                detail::num(validation_bytes(resolution) / double(1ull << 30)) + " GiB, above the limit of " +
+                                detail::num(max_memory_bytes / double(1ull << 30)) + " GiB (max_memory_bytes)");
         if (preview && (preview_size < 1 || preview_size > 8192)) throw invalid_input("surface pattern: preview size must be in [1, 8192] pixels");
     }
 };

@@ -72,6 +72,11 @@
 
 namespace fabsynth::surface_pattern {
 
+/// An upper estimate of the peak memory (bytes) of validating a solid on a grid of `resolution`
+/// voxels along its longest side: the FEM box is at most the (resolution + 1)^3 nodes of the whole
+/// grid, about 0.7 KB each (fem/voxel.hpp's operator, hierarchy and CG vectors).
+[[nodiscard]] inline double validation_bytes(int resolution) { return 700.0 * std::pow(static_cast<double>(resolution) + 1, 3); }
+
 struct validation_options {
     /// Elastic material (E [MPa], nu). Default ABS (fem/material.hpp: Stratasys ABSplus-P430, E =
     /// 2200 MPa, nu = 0.35), the material of §6.3. Its density field is ignored (density_kg_m3).

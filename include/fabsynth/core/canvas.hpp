@@ -1,37 +1,41 @@
+// SPDX-License-Identifier: MIT
 #pragma once
-/// @file plot.hpp  The foam_fit preview figure (pure drawing, kept with the tool), drawn into a fabsynth::image8 (RGB) with a built-in 5x7
-/// pixel font, so no plotting package is needed. Two panels:
-///  - left (like the paper's Figure 5): E/Es against rho, one colour per tau; dots are the samples,
-///    lines the fitted polynomial P(rho, tau) over the sampled densities of that tau;
-///  - right (like Figure 8a): E/Es against the relative volume w, the samples, the fitted
-///    Gibson-Ashby curve C w^n over its fit range (black) and the paper's C = 0.85, n = 1.95 (grey).
+/// @file canvas.hpp  Drawing on an RGB raster for figures: pixels, rectangles, thick and dashed
+/// lines, text in a built-in 5x7 pixel font (digits, upper-case letters, common punctuation) and
+/// a plot panel with axes, ticks and labels. It exists so a tool or an embedder can draw a
+/// diagnostic figure (foam/fit_plot.hpp's elasticity fit) into a PNG without a plotting package;
+/// it is not a vector graphics library (no anti-aliasing, integer pixel coordinates after rounding).
+///
+/// Usage:
+///     fabsynth::canvas cv(640, 480);                        // white, 3 channels
+///     fabsynth::plot_panel p{cv, 80, 40, 600, 420, 0.0, 1.0, 0.0, 10.0};
+///     p.axes("X (MM)", "Y", "TITLE");
+///     p.curve(0.0, 1.0, [](double x) { return 10 * x * x; }, fabsynth::plot_colour(0));
+///     fabsynth::io::write_png("fig.png", cv.img);
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <iterator>
 #include <string>
-#include <vector>
 
 #include <fabsynth/core/image.hpp>
-#include <fabsynth/foam/elasticity_study.hpp>
-#include <fabsynth/foam/fit.hpp>
 
-namespace foam_fit_plot {
+namespace fabsynth {
 
-using fabsynth::image8;
-namespace foam = fabsynth::foam;
+/// An 8-bit RGB colour.
+using rgb8 = std::array<std::uint8_t, 3>;
 
-namespace plot_detail {
-
-using rgb = std::array<std::uint8_t, 3>;
-
-// 5x7 glyphs, one string of 7 rows x 5 columns per character ('#' = ink); drawn for this tool.
+namespace detail {
+// One 5x7 glyph: 7 rows of 5 columns, row-major, '#' = ink. Drawn for this library (no font
+// package is needed for a figure's labels); lower-case letters are drawn as upper-case.
 struct glyph {
     char c;
     const char* rows;
 };
-inline constexpr glyph font[] = {
+inline constexpr glyph font_5x7[] = {
     {'0', " ### #   ##  ### # ###  ##   # ### "}, {'1', "  #   ##    #    #    #    #   ### "},
     {'2', " ### #   #    #   #   #   #   #####"}, {'3', "#####   #   #     #     ##   # ### "},
     {'4', "   #   ##  # # #  # #####   #    # "}, {'5', "######    ####     #    ##   # ### "},
@@ -59,18 +63,35 @@ inline constexpr glyph font[] = {
     {';', "      ##   ##        ##   ##   #   "}, {'%', "##   ##  #   #   #   #   #  ##   ##"}, {' ', "                                   "},
 };
 
+[[nodiscard]] inline const glyph* find_glyph(char ch) {
+    const char u = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    const glyph* g = nullptr;
+    for (const glyph& f : font_5x7)
+        if (f.c == u) g = &f;
+    return g;
+}
+}  // namespace detail
+
+/// An RGB image8 to draw on; pixel (0, 0) is the top-left corner, x right, y down. Drawing outside
+/// the image is clipped.
 struct canvas {
     image8 img;
-    canvas(int w, int h) : img(w, h, 3, 255) {}
-    void put(int x, int y, rgb c) {
+    /// A width x height canvas (pixels, each > 0) filled with `background`.
+    canvas(int width, int height, rgb8 background = {255, 255, 255}) : img(width, height, 3, 255) {
+        if (background != rgb8{255, 255, 255}) rect(0, 0, width - 1, height - 1, background);
+    }
+    void put(int x, int y, rgb8 c) {
         if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
         for (int k = 0; k < 3; ++k) img.at(x, y, k) = c[static_cast<std::size_t>(k)];
     }
-    void rect(int x0, int y0, int x1, int y1, rgb c) {
+    /// The filled rectangle [x0, x1] x [y0, y1] (inclusive pixel bounds).
+    void rect(int x0, int y0, int x1, int y1, rgb8 c) {
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x) put(x, y, c);
     }
-    void line(double x0, double y0, double x1, double y1, rgb c, int width = 1, int dash = 0) {
+    /// A line from (x0, y0) to (x1, y1) in pixels, `width` pixels thick; `dash` > 0 leaves out
+    /// every other run of `dash` steps (one step per pixel along the longer axis).
+    void line(double x0, double y0, double x1, double y1, rgb8 c, int width = 1, int dash = 0) {
         const int steps = std::max(1, static_cast<int>(std::ceil(std::max(std::abs(x1 - x0), std::abs(y1 - y0)))));
         for (int i = 0; i <= steps; ++i) {
             if (dash > 0 && (i / dash) % 2 == 1) continue;
@@ -79,15 +100,13 @@ struct canvas {
             rect(x - (width - 1) / 2, y - (width - 1) / 2, x + width / 2, y + width / 2, c);
         }
     }
-    /// Text with its top-left corner at (x, y), `scale` pixels per font pixel; returns the width.
-    int text(int x, int y, const std::string& s, rgb c = {0, 0, 0}, int scale = 2, bool vertical = false) {
+    /// Text with its top-left corner at (x, y), `scale` pixels per font pixel (a character is
+    /// 6 * scale pixels wide, 7 * scale high); `vertical` writes bottom to top with (x, y) the
+    /// bottom-left corner. Characters without a glyph leave a blank. Returns the advance in pixels.
+    int text(int x, int y, const std::string& s, rgb8 c = {0, 0, 0}, int scale = 2, bool vertical = false) {
         int pos = 0;
         for (char ch : s) {
-            const char u = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
-            const glyph* g = nullptr;
-            for (const glyph& f : font)
-                if (f.c == u) g = &f;
-            if (g)
+            if (const detail::glyph* g = detail::find_glyph(ch))
                 for (int r = 0; r < 7; ++r)
                     for (int col = 0; col < 5; ++col)
                         if (g->rows[r * 5 + col] == '#') {
@@ -101,15 +120,10 @@ struct canvas {
     }
 };
 
+/// The advance of `s` written at `scale` (pixels).
 [[nodiscard]] inline int text_width(const std::string& s, int scale = 2) { return static_cast<int>(s.size()) * 6 * scale; }
 
-[[nodiscard]] inline std::string tick_label(double v, double step) {
-    char buf[32];
-    const int digits = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
-    std::snprintf(buf, sizeof buf, "%.*f", digits, std::abs(v) < 1e-12 * step ? 0.0 : v);
-    return buf;
-}
-
+/// A tick step of 1, 2 or 5 times a power of ten giving about five ticks over `range` (> 0).
 [[nodiscard]] inline double nice_step(double range) {
     const double raw = range / 5.0, p = std::pow(10.0, std::floor(std::log10(raw)));
     for (double m : {1.0, 2.0, 5.0, 10.0})
@@ -117,15 +131,34 @@ struct canvas {
     return 10 * p;
 }
 
-// One panel: data range [x0, x1] x [y0, y1] mapped into the pixel box.
-struct panel {
+/// `v` with as many decimals as the tick `step` needs (0 printed as 0, never -0).
+[[nodiscard]] inline std::string tick_label(double v, double step) {
+    char buf[32];
+    const int digits = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+    std::snprintf(buf, sizeof buf, "%.*f", digits, std::abs(v) < 1e-12 * step ? 0.0 : v);
+    return buf;
+}
+
+/// The i-th colour of a ten-colour categorical palette (cycles).
+[[nodiscard]] inline rgb8 plot_colour(std::size_t i) {
+    static constexpr rgb8 pal[] = {{31, 119, 180}, {255, 127, 14}, {44, 160, 44}, {214, 39, 40}, {148, 103, 189},
+                                   {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
+    return pal[i % std::size(pal)];
+}
+
+/// A plot: the data rectangle [x0, x1] x [y0, y1] (x0 < x1, y0 < y1) mapped onto the pixel box
+/// [px0, px1] x [py0, py1] of `cv` (y up in data, down in pixels). Marks outside the data range
+/// are not drawn.
+struct plot_panel {
     canvas& cv;
-    int px0, py0, px1, py1;  // plot area (pixels), y down
+    int px0, py0, px1, py1;
     double x0, x1, y0, y1;
     [[nodiscard]] double X(double x) const { return px0 + (x - x0) / (x1 - x0) * (px1 - px0); }
     [[nodiscard]] double Y(double y) const { return py1 - (y - y0) / (y1 - y0) * (py1 - py0); }
+    /// Frame, grey grid at nice_step ticks, tick labels, the axis labels (y written vertically,
+    /// 78 px left of the box) and the title (26 px above it).
     void axes(const std::string& xlabel, const std::string& ylabel, const std::string& title) {
-        const rgb black{0, 0, 0}, grid{225, 225, 225};
+        const rgb8 black{0, 0, 0}, grid{225, 225, 225};
         const double sx = nice_step(x1 - x0), sy = nice_step(y1 - y0);
         for (double v = std::ceil(x0 / sx) * sx; v <= x1 + 1e-9 * sx; v += sx) {
             cv.line(X(v), py0, X(v), py1, grid);
@@ -145,21 +178,25 @@ struct panel {
         cv.text(px0 - 78, (py0 + py1) / 2 + text_width(ylabel) / 2, ylabel, black, 2, true);
         cv.text((px0 + px1) / 2 - text_width(title) / 2, py0 - 26, title);
     }
-    void dot(double x, double y, rgb c) {
+    /// A filled 5x5 square mark with a black border at (x, y).
+    void dot(double x, double y, rgb8 c) {
         if (x < x0 || x > x1 || y < y0 || y > y1) return;
         const int cx = static_cast<int>(std::lround(X(x))), cy = static_cast<int>(std::lround(Y(y)));
         cv.rect(cx - 3, cy - 3, cx + 3, cy + 3, {0, 0, 0});
         cv.rect(cx - 2, cy - 2, cx + 2, cy + 2, c);
     }
-    void ring(double x, double y, rgb c) {
+    /// A hollow 7x7 square mark at (x, y).
+    void ring(double x, double y, rgb8 c) {
         if (x < x0 || x > x1 || y < y0 || y > y1) return;
         const int cx = static_cast<int>(std::lround(X(x))), cy = static_cast<int>(std::lround(Y(y)));
         for (int d = -3; d <= 3; ++d) {
             cv.put(cx + d, cy - 3, c), cv.put(cx + d, cy + 3, c), cv.put(cx - 3, cy + d, c), cv.put(cx + 3, cy + d, c);
         }
     }
+    /// The graph of f on [a, b] (400 segments); pieces where f is not finite or leaves [y0, y1]
+    /// are left out.
     template <class F>
-    void curve(double a, double b, F f, rgb c, int width = 2, int dash = 0) {
+    void curve(double a, double b, F f, rgb8 c, int width = 2, int dash = 0) {
         constexpr int n = 400;
         double lx = 0, ly = 0;
         bool have = false;
@@ -172,74 +209,4 @@ struct panel {
     }
 };
 
-inline rgb colour(std::size_t i) {
-    static constexpr rgb pal[] = {{31, 119, 180}, {255, 127, 14}, {44, 160, 44}, {214, 39, 40}, {148, 103, 189},
-                                  {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
-    return pal[i % std::size(pal)];
-}
-
-}  // namespace plot_detail
-
-/// Draws the figure for a finished run (see the file comment).
-[[nodiscard]] inline image8 draw_plot(const foam::elasticity_fit_config& c, const foam::elasticity_fit_report& r) {
-    using namespace plot_detail;
-    canvas cv(1640, 700);
-    std::vector<double> taus;
-    double rmax = 0, emax = 0, wmax = 0;
-    for (const auto& s : r.samples) {
-        if (std::find(taus.begin(), taus.end(), s.s.radius) == taus.end()) taus.push_back(s.s.radius);
-        emax = std::max(emax, s.s.E), wmax = std::max(wmax, s.s.volume_fraction);
-    }
-    std::sort(taus.begin(), taus.end());
-    {
-        std::vector<foam::elasticity_sample> raw;
-        for (const auto& s : r.samples) raw.push_back(s.s);
-        for (const auto& e : foam::fit_points(raw)) rmax = std::max(rmax, e.density);
-    }
-    auto tau_index = [&](double t) { return static_cast<std::size_t>(std::find(taus.begin(), taus.end(), t) - taus.begin()); };
-    const double ytop = emax * 1.08 > 0 ? emax * 1.08 : 1.0;
-
-    panel left{cv, 110, 70, 700, 560, 0.0, rmax * 1.05 > 0 ? rmax * 1.05 : 1.0, 0.0, ytop};
-    left.axes("RHO (SEEDS/MM^3)", "E/ES", "YOUNG'S MODULUS VS DENSITY, PER BEAM RADIUS");
-    std::vector<foam::elasticity_sample> raw;
-    for (const auto& s : r.samples) raw.push_back(s.s);
-    const std::vector<foam::elasticity_sample> pts = foam::fit_points(raw);
-    if (!r.P.coeffs.empty())
-        for (double t : taus) {  // the fit over the densities its points cover at this radius
-            double lo = 1e300, hi = 0;
-            for (const auto& e : pts)
-                if (e.radius == t) lo = std::min(lo, e.density), hi = std::max(hi, e.density);
-            left.curve(lo, hi, [&](double rho) { return r.P(rho, t); }, colour(tau_index(t)));
-        }
-    for (const auto& e : pts) left.ring(e.density, e.E, colour(tau_index(e.radius)));
-    for (const auto& s : r.samples) left.dot(s.s.density, s.s.E, colour(tau_index(s.s.radius)));
-    int ly = 84;
-    for (std::size_t i = 0; i < taus.size(); ++i, ly += 22) {
-        char buf[48];
-        std::snprintf(buf, sizeof buf, "TAU = %.3g MM", taus[i]);
-        cv.rect(left.px1 + 14, ly + 2, left.px1 + 26, ly + 12, colour(i));
-        cv.text(left.px1 + 32, ly, buf);
-    }
-    char note[96];
-    std::snprintf(note, sizeof note, "FILLED: SAMPLES; HOLLOW: SCALE EQUIVALENTS; LINES: DEGREE-4 FIT (MAX DEV %.1f%%)", 100 * r.max_deviation);
-    cv.text(left.px0 - 60, left.py1 + 60, note);
-
-    panel right{cv, 1020, 70, 1610, 560, 0.0, std::max(0.1, std::min(1.0, wmax * 1.08)), 0.0, ytop};
-    right.axes("RELATIVE VOLUME W", "E/ES", "YOUNG'S MODULUS VS RELATIVE VOLUME");
-    right.curve(c.omega_lo, c.omega_hi, [](double w) { return 0.85 * std::pow(w, 1.95); }, {150, 150, 150}, 2, 6);
-    if (r.gibson_ashby_ok) right.curve(c.omega_lo, c.omega_hi, [&](double w) { return r.gibson_ashby(w); }, {0, 0, 0}, 2);
-    for (const auto& s : r.samples) right.dot(s.s.volume_fraction, s.s.E, colour(tau_index(s.s.radius)));
-    char ga[96];
-    if (r.gibson_ashby_ok) {
-        std::snprintf(ga, sizeof ga, "FIT C W^N: C = %.3f, N = %.3f", r.gibson_ashby.C, r.gibson_ashby.n);
-        right.cv.line(right.px0 + 14, 92, right.px0 + 44, 92, {0, 0, 0}, 2);
-        cv.text(right.px0 + 52, 85, ga);
-    }
-    right.cv.line(right.px0 + 14, 114, right.px0 + 44, 114, {150, 150, 150}, 2, 6);
-    cv.text(right.px0 + 52, 107, "PAPER: C = 0.85, N = 1.95");
-    std::snprintf(ga, sizeof ga, "CURVES ON %.2g < W < %.2g (GIBSON-ASHBY RANGE)", c.omega_lo, c.omega_hi);
-    cv.text(right.px0 + 10, right.py1 + 60, ga);
-    return cv.img;
-}
-
-}  // namespace foam_fit_plot
+}  // namespace fabsynth
