@@ -3,8 +3,9 @@
 #   1. install the Debian packages (scripts/setup.sh),
 #   2. Release build + every test (incl. [slow] ones and the installed-package consumer),
 #   3. each libFuzzer target for a short bounded time (clang),
-#   4. the module tests once more under AddressSanitizer + UndefinedBehaviorSanitizer (the tools are
-#      thin drivers over the same library code and run their checks in the Release build only).
+#   4. the tests of the modules where memory errors hide (tests/CMakeLists.txt:
+#      FABSYNTH_SANITIZE_MODULES) once more under AddressSanitizer + UndefinedBehaviorSanitizer; the
+#      tools and the filigree and vector-pattern pipelines run their checks in the Release build only.
 # Any failure, sanitizer report or fuzzer crash fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
