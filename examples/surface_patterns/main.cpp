@@ -1,6 +1,6 @@
 // surface_patterns MESH --exemplar MASK.png [--color COLOR.png] --size MM --thickness MM --feature PX
 //                  [--resolution N] [--scale MM_PER_PX] [--up X Y Z] [--jitter F] [--seed S]
-//                  [--gravity X Y Z] [--material abs|pla] [--samples N] [--geodesic F]
+//                  [--gravity X Y Z] [--material abs|pla] [--safety-factor F] [--samples N] [--geodesic F]
 //                  [--load-factor F] [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure]
 //                  -o OUTDIR
 //
@@ -13,7 +13,11 @@
 //   OUTDIR/shell.vtk     CELL_DATA `state` (unsigned char): 0 not in the shell, 1 shell voxel carved
 //                        empty, 2 solid from the exemplar, 3 reinforcement (made solid by a bridge
 //                        of §5.2 where the pattern was empty), 4 thin feature enlarged (§6.2.1)
-//   OUTDIR/solid.vtk     CELL_DATA `solid` 0/1 on the same grid: the thickened voxels
+//   OUTDIR/solid.vtk     CELL_DATA `solid` 0/1 on the same grid: the thickened voxels; with --validate
+//                        also `stress_expected_pa` and `stress_unexpected_pa` (float): |s1|+|s2|+|s3|
+//                        per voxel under each load (the paper's Fig. 16), 0 outside the solid and in
+//                        the support zone, -1 in a piece without support (left out of the statistics);
+//                        the stage files below carry their own stage's fields
 //   OUTDIR/preview.png   shaded render of pattern.stl from two sides (exemplar colours with --color;
 //                        reinforcements blue, enlarged thin features green)
 //   OUTDIR/report.json   voxels, energy and time per level, every structural iteration (components,
@@ -40,6 +44,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "output_set.hpp"
@@ -60,7 +65,8 @@ io::structured_points byte_grid(const grid_geometry& g, const std::string& name,
 
 nlohmann::ordered_json stats_json(const sp::stress_statistics& s) {
     return {{"average_pa", s.average}, {"median_pa", s.median}, {"p99_pa", s.p99}, {"max_pa", s.max}, {"elements", s.elements},
-            {"fixed_elements", s.fixed_elements}, {"unsupported_voxels", s.unsupported_voxels}, {"cg_iterations", s.iterations},
+            {"fixed_elements", s.fixed_elements}, {"unsupported_pieces", s.unsupported_pieces}, {"unsupported_voxels", s.unsupported_voxels},
+            {"cg_iterations", s.iterations},
             {"seconds", s.seconds}};
 }
 
@@ -99,7 +105,7 @@ int main(int argc, char** argv) {
     tool::common common(app);
     std::string mesh_path, mask_path, colour_path, out_dir, material_name = "abs";
     double size = 0, thickness = 0, feature = 0, scale = 0, jitter = 0.1, min_feature = -1, max_memory_gib = 16;
-    double geodesic = 1.5, design_load = 0, load_factor = 20;
+    double geodesic = 1.5, design_load = 0, load_factor = 20, safety_factor = 2;
     int resolution = 256, levels = 0, passes = 2, candidates = 128, smoothing = 20, max_iterations = 30;
     std::size_t samples = 1000;
     std::vector<double> up{0, 0, 1}, gravity{0, 0, -1};
@@ -124,6 +130,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-tiling", no_tiling, "the exemplar does not tile: penalise lookups near its border (§6.1)");
     app.add_option("--gravity", gravity, "force profile: gravity direction; the lowest 10% along it are the supports")->expected(3);
     app.add_option("--material", material_name, "printing material: abs or pla (elastic constants, tensile strength)");
+    app.add_option("--safety-factor", safety_factor, "force profile: beams are reinforced until their stress is below the tensile strength / F")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--samples", samples, "abstract graph vertices (paper: 1000)")->check(CLI::Range(2, 100000));
     app.add_option("--geodesic", geodesic, "geodesic criterion: reinforce empty edges whose endpoints are farther apart in the pattern than F x the object's extent (0 = off)")
         ->check(CLI::NonNegativeNumber);
@@ -179,7 +188,7 @@ int main(int argc, char** argv) {
         po.smoothing = smoothing, po.max_memory_bytes = max_memory_gib * double(1ull << 30);
         po.synthesis = {.mm_per_px = scale, .candidates = candidates, .jitter = jitter, .up = up_dir, .passes = passes, .seed = seed};
         po.structure = !no_structure, po.max_iterations = max_iterations, po.stages = stages, po.validate = validate;
-        po.structural.target_samples = samples, po.structural.seed = seed, po.structural.material = material;
+        po.structural.target_samples = samples, po.structural.seed = seed, po.structural.material = material, po.structural.safety_factor = safety_factor;
         po.structural.design_load_n = design_load, po.structural.load_factor = load_factor, po.structural.gravity = gravity_dir, po.structural.geodesic_factor = geodesic;
         const sp::pattern_result res = sp::make_pattern(mesh, std::move(ex), po, progress);
 
@@ -192,14 +201,27 @@ int main(int argc, char** argv) {
             for (std::size_t v = 0; v < res.shell_voxels.size(); ++v) st[static_cast<std::size_t>(g.index(res.shell_voxels[v]))] = res.state[v];
             io::write_vtk(shell_file, byte_grid(g, "state", std::move(st)));
         }
-        auto write_solid = [&](const fs::path& path, const sp::voxel_set& vs) {
+        // `stress`: the validation of `vs` (Fig. 16's fields), or none
+        auto write_solid = [&](const fs::path& path, const sp::voxel_set& vs, const sp::stage_validation* stress) {
             std::vector<double> sv(static_cast<std::size_t>(g.count()), 0.0);
             for (const ivec3& p : vs.voxels) sv[static_cast<std::size_t>(g.index(p))] = 1.0;
-            io::write_vtk(path, byte_grid(g, "solid", std::move(sv)));
+            io::structured_points grid = byte_grid(g, "solid", std::move(sv));
+            if (stress)
+                for (const auto& [name, score] : {std::pair{"stress_expected_pa", &stress->expected_pa}, std::pair{"stress_unexpected_pa", &stress->unexpected_pa}}) {
+                    std::vector<double> f(static_cast<std::size_t>(g.count()), 0.0);
+                    for (std::size_t i = 0; i < vs.voxels.size(); ++i) f[static_cast<std::size_t>(g.index(vs.voxels[i]))] = std::isnan((*score)[i]) ? -1.0 : (*score)[i];
+                    grid.fields.push_back({name, 1, std::move(f), io::vtk_type::float32});
+                }
+            io::write_vtk(path, grid);
         };
-        write_solid(solid_file, res.thickened);
-        if (res.stage_connected) write_solid(connected_file, *res.stage_connected);
-        if (res.stage_forces) write_solid(forces_file, *res.stage_forces);
+        write_solid(solid_file, res.thickened, res.validation.empty() ? nullptr : &res.validation.back());
+        auto validation_of = [&](std::string_view stage) -> const sp::stage_validation* {
+            for (const sp::stage_validation& v : res.validation)
+                if (v.name == stage) return &v;
+            return nullptr;
+        };
+        if (res.stage_connected) write_solid(connected_file, *res.stage_connected, validation_of("connected"));
+        if (res.stage_forces) write_solid(forces_file, *res.stage_forces, validation_of("forces"));
         io::write_mesh(stl_file, res.mesh);
         io::write_png(preview_file, res.preview);
         const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -245,6 +267,7 @@ int main(int argc, char** argv) {
             rep["gravity"] = gravity;
             rep["design_load_n"] = design_load;
             rep["load_factor"] = load_factor;
+            rep["safety_factor"] = safety_factor;
             rep["allowable_stress_mpa"] = po.structural.allowable_stress_mpa();
             rep["geodesic_factor"] = geodesic;
             rep["structural"] = structure_json(res.structure);
@@ -286,6 +309,12 @@ int main(int argc, char** argv) {
                         " MPa, above the allowable " + std::to_string(last.allowable_stress_mpa) + " MPa (" +
                         (last.force_bound_hit ? "the force phase hit its bound of solves" : "no empty edge was left to insert") +
                         "); report.json: overloaded");
+        }
+        if (!res.validation.empty() && (res.validation.back().expected.unsupported_pieces > 0)) {
+            const sp::stress_statistics& s = res.validation.back().expected;
+            common.warn(std::to_string(s.unsupported_pieces) + " piece(s) of the printed solid (" + std::to_string(s.unsupported_voxels) +
+                        " voxels) touch no support: the validation cannot load them and leaves them out of its statistics (report.json: "
+                        "validation unsupported_pieces; -1 in solid.vtk's stress fields)");
         }
         nlohmann::ordered_json outs = nlohmann::ordered_json::array();
         for (const fs::path& o : outputs) outs.push_back(o.string());

@@ -7,6 +7,7 @@
 #include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
+#include <fabsynth/io/vtk.hpp>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -411,6 +412,7 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
              {"unknown material", structural({"--material", "wood"}), 2, "material 'wood'"},
              {"zero gravity", structural({"--gravity", "0", "0", "0"}), 2, "--gravity"},
              {"validation too large for memory", structural({"--validate", "--max-memory", "0.001"}), 2, "GiB"},
+             {"zero safety factor", structural({"--safety-factor", "0"}), 2, "--safety-factor"},
              {"NaN up", args({"--up", "nan", "0", "1"}), 2, "up"},
          })
         check_case("surface_patterns", c);
@@ -497,6 +499,29 @@ TEST_CASE("surface_patterns with the structural loop: one piece, stages, validat
         CHECK(p99("forces_geodesic", "unexpected") <= p99("forces", "unexpected"));
     else
         WARN("the geodesic criterion laid no bridge on this case: its benefit under the unexpected load is not tested here");
+    // the stress fields of each solid (Fig. 16) agree with the statistics of its stage: the free
+    // elements are the voxels with a positive score, the largest is max_pa, nothing outside the solid
+    for (const auto& [file, stage] : {std::pair{"solid.vtk", "forces_geodesic"}, std::pair{"solid_connected.vtk", "connected"},
+                                      std::pair{"solid_forces.vtk", "forces"}}) {
+        INFO(file);
+        const fabsynth::io::structured_points sp = fabsynth::io::read_vtk_structured_points(fs::path(out) / file);
+        REQUIRE(sp.fields.size() == 3);
+        const auto& solid = sp.fields[0].values;
+        for (std::size_t k = 1; k < 3; ++k) {
+            const auto& f = sp.fields[k];
+            const json& st = val.at(stage).at(k == 1 ? "expected" : "unexpected");
+            CHECK(f.name == (k == 1 ? "stress_expected_pa" : "stress_unexpected_pa"));
+            std::size_t positive = 0, outside = 0;
+            double largest = 0;
+            for (std::size_t c = 0; c < f.values.size(); ++c) {
+                if (f.values[c] > 0) ++positive, largest = std::max(largest, f.values[c]);
+                if (solid[c] == 0 && f.values[c] != 0) ++outside;
+            }
+            CHECK(outside == 0);
+            CHECK(positive == st.at("elements").get<std::size_t>());
+            CHECK(largest == Approx(st.at("max_pa").get<double>()).epsilon(1e-6));  // stored as float
+        }
+    }
     std::map<std::string, std::string> first;
     for (const char* f : {"pattern.stl", "shell.vtk", "solid.vtk", "solid_connected.vtk", "solid_forces.vtk", "preview.png"})
         first[f] = slurp(fs::path(out) / f);

@@ -126,6 +126,9 @@ struct stage_validation {
     std::string name;  ///< "connected", "forces", then "forces_geodesic" (or "final" without the geodesic criterion)
     stress_statistics expected;    ///< under gravity
     stress_statistics unexpected;  ///< under the orthogonal load (validation.hpp unexpected())
+    /// |s1| + |s2| + |s3| [Pa] per voxel of the stage's solid (its voxel order) under each load, the
+    /// paper's Fig. 16: 0 in the support zone, NaN in a piece without support (validation.hpp).
+    std::vector<double> expected_pa, unexpected_pa;
 };
 
 /// Wall time of each phase [s] (Table 2's split: structural analysis and resynthesis apart).
@@ -326,8 +329,8 @@ template <progress_callback P = no_progress>
         vo.gravity = opt.structural.gravity;
         const auto run = [&](const char* name, const voxel_set& vs, double at) {
             const auto sub = [&](double f, std::string_view st) { report_progress(progress, at + 0.04 * f, std::string("validate ") + name + ", " + std::string(st)); };
-            stage_validation sv{name, validate_stress(vs, vo, sub), validate_stress(vs, unexpected(vo), sub)};
-            out.validation.push_back(std::move(sv));
+            stress_field e = validate_stress_field(vs, vo, sub), u = validate_stress_field(vs, unexpected(vo), sub);
+            out.validation.push_back({name, e.stats, u.stats, std::move(e.score), std::move(u.score)});
         };
         if (out.stage_connected) run("connected", *out.stage_connected, 0.72);
         if (out.stage_forces) run("forces", *out.stage_forces, 0.76);
