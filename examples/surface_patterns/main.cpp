@@ -1,7 +1,7 @@
 // surface_patterns MESH --exemplar MASK.png [--color COLOR.png] --size MM --thickness MM --feature PX
 //                  [--resolution N] [--scale MM_PER_PX] [--up X Y Z] [--jitter F] [--seed S]
 //                  [--gravity X Y Z] [--material abs|pla] [--safety-factor F] [--samples N] [--geodesic F]
-//                  [--load-factor F] [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure]
+//                  [--load-factor F] [--bridge-radius MM] [--bridge-band F] [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure]
 //                  -o OUTDIR
 //
 // By-example synthesis of a structurally sound pattern in the voxel shell of a mesh
@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
     tool::common common(app);
     std::string mesh_path, mask_path, colour_path, out_dir, material_name = "abs";
     double size = 0, thickness = 0, feature = 0, scale = 0, jitter = 0.1, min_feature = -1, max_memory_gib = 16;
-    double geodesic = 1.5, design_load = 0, load_factor = 20, safety_factor = 2;
+    double geodesic = 1.5, design_load = 0, load_factor = 20, safety_factor = 2, bridge_radius = 0, bridge_band = 0.25;
     int resolution = 256, levels = 0, passes = 2, candidates = 128, smoothing = 20, max_iterations = 30;
     std::size_t samples = 1000;
     std::vector<double> up{0, 0, 1}, gravity{0, 0, -1};
@@ -132,6 +132,14 @@ int main(int argc, char** argv) {
     app.add_option("--material", material_name, "printing material: abs or pla (elastic constants, tensile strength)");
     app.add_option("--safety-factor", safety_factor, "force profile: beams are reinforced until their stress is below the tensile strength / F")
         ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--bridge-radius", bridge_radius,
+                   "reinforcement bridges: dilation radius of their voxel paths (mm; 0 = the narrowest that prints, max(min feature / 2, one voxel); "
+                   "the paper uses r_pattern)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--bridge-band", bridge_band,
+                   "reinforcement bridges: candidates whose scores lie within this ratio of the best are ranked by the voxels they add (1 = by score only)")
+        ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     app.add_option("--samples", samples, "abstract graph vertices (paper: 1000)")->check(CLI::Range(2, 100000));
     app.add_option("--geodesic", geodesic, "geodesic criterion: reinforce empty edges whose endpoints are farther apart in the pattern than F x the object's extent (0 = off)")
@@ -190,6 +198,7 @@ int main(int argc, char** argv) {
         po.structure = !no_structure, po.max_iterations = max_iterations, po.stages = stages, po.validate = validate;
         po.structural.target_samples = samples, po.structural.seed = seed, po.structural.material = material, po.structural.safety_factor = safety_factor;
         po.structural.design_load_n = design_load, po.structural.load_factor = load_factor, po.structural.gravity = gravity_dir, po.structural.geodesic_factor = geodesic;
+        po.structural.bridge_radius_mm = bridge_radius, po.structural.bridge_band = bridge_band;
         const sp::pattern_result res = sp::make_pattern(mesh, std::move(ex), po, progress);
 
         // everything is computed: write the set
@@ -245,6 +254,7 @@ int main(int argc, char** argv) {
             {"voxel_mm", res.voxel_mm},
             {"exemplar_mm_per_px", res.mm_per_px},
             {"r_pattern_mm", feature * res.mm_per_px},
+            {"bridge_radius_mm", res.bridge_radius_mm},
             {"thickness_mm", thickness},
             {"min_feature_mm", res.min_feature_mm},
             {"structure", !no_structure},

@@ -490,15 +490,13 @@ TEST_CASE("surface_patterns with the structural loop: one piece, stages, validat
     INFO("p99 expected: connected " << p99("connected", "expected") << ", forces " << p99("forces", "expected") << ", forces+geodesic "
                                      << p99("forces_geodesic", "expected") << "; unexpected: forces " << p99("forces", "unexpected")
                                      << ", forces+geodesic " << p99("forces_geodesic", "unexpected"));
-    CHECK(p99("connected", "expected") >= 3 * p99("forces_geodesic", "expected"));
-    // The geodesic stage can only be judged where it laid a bridge: when it adds nothing, the
-    // forces and forces_geodesic solids are the same voxels and a comparison could not fail.
+    CHECK(p99("connected", "expected") >= 5 * p99("forces_geodesic", "expected"));
+    // The geodesic stage can only be judged where it laid a bridge (otherwise the forces and
+    // forces_geodesic solids are the same voxels): on this case it must, and it must help.
     std::size_t geodesic_bridges = 0;
     for (const json& it : its) geodesic_bridges += it.at("added_geodesic").get<std::size_t>();
-    if (geodesic_bridges > 0)
-        CHECK(p99("forces_geodesic", "unexpected") <= p99("forces", "unexpected"));
-    else
-        WARN("the geodesic criterion laid no bridge on this case: its benefit under the unexpected load is not tested here");
+    CHECK(geodesic_bridges > 0);
+    CHECK(p99("forces_geodesic", "unexpected") < p99("forces", "unexpected"));
     // the stress fields of each solid (Fig. 16) agree with the statistics of its stage: the free
     // elements are the voxels with a positive score, the largest is max_pa, nothing outside the solid
     for (const auto& [file, stage] : {std::pair{"solid.vtk", "forces_geodesic"}, std::pair{"solid_connected.vtk", "connected"},

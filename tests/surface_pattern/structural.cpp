@@ -8,6 +8,7 @@
 #include <fabsynth/core/parallel.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/graph/components.hpp>
+#include <fabsynth/graph/shortest_paths.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/surface_pattern.hpp>
@@ -196,6 +197,46 @@ TEST_CASE("structure step: the geodesic criterion bridges edges whose ends are f
     for (std::size_t v = 0; v < solid.size(); ++v)
         if (connected[v]) REQUIRE(solid[v] == 1);
     CHECK(b.solid_pieces(solid) == 1);
+}
+
+TEST_CASE("structure step: bridges are the empty runs of the inserted paths dilated by the bridge radius", "[surface_pattern][structure]") {
+    bunny_case b("hooks.png", 5, 4);
+    const sp::shell_level& l0 = b.l0();
+    auto run = [&](double radius_mm) {
+        std::vector<std::uint8_t> solid = b.r.solid, reinforcement, added;
+        sp::structure_options o = b.options(5);
+        o.bridge_radius_mm = radius_mm;
+        const sp::structural_step_report rep = sp::structural_step(b.gs, l0, solid, reinforcement, o, no_progress{}, &added);
+        REQUIRE_FALSE(rep.inserted.empty());
+        // the oracle: the same abstract graph, the empty voxels of the inserted paths, a fresh
+        // multi-source Dijkstra in G_surface; solid now <=> solid before or within the radius
+        const sp::abstract_graph ag = sp::build_abstract_graph(b.gs, l0, b.r.solid, {.target_samples = o.target_samples, .seed = o.seed});
+        std::vector<graph::vertex_id> seeds;
+        for (const auto& [e, c] : rep.inserted)
+            for (const std::uint32_t v : ag.edges[e].path)
+                if (!b.r.solid[v]) seeds.push_back(v);
+        std::sort(seeds.begin(), seeds.end());
+        seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+        const graph::shortest_path_forest near = graph::dijkstra_forest(b.gs.graph(), seeds);
+        std::size_t n_added = 0;
+        for (std::size_t v = 0; v < l0.size(); ++v) {
+            const bool bridge = near.distance[v] <= o.bridge_radius();
+            REQUIRE(solid[v] == (b.r.solid[v] || bridge ? 1 : 0));
+            REQUIRE(added[v] == (bridge && !b.r.solid[v] ? 1 : 0));
+            REQUIRE(reinforcement[v] == (bridge ? 1 : 0));
+            n_added += added[v];
+        }
+        CHECK(n_added == rep.reinforced_voxels);
+        CHECK(b.solid_pieces(solid) == 1);
+        return rep.reinforced_voxels;
+    };
+    const std::size_t paper = run(0);  // r_pattern, 1.25 mm
+    const std::size_t narrow = run(b.h);
+    INFO("voxels laid: r_pattern " << paper << ", one voxel " << narrow);
+    CHECK(narrow < paper);
+    sp::structure_options bad = b.options(5);
+    bad.bridge_radius_mm = -1;
+    CHECK_THROWS_AS(bad.validate(), invalid_input);
 }
 
 TEST_CASE("structure step: identical for any thread count", "[surface_pattern][structure]") {

@@ -39,6 +39,17 @@ TEST_CASE("thin features: a one-voxel line is widened to the minimal radius, a w
         if (c.x > 33) CHECK(solid[v] == before[v]);
         CHECK(added[v] == (solid[v] && !before[v] ? 1 : 0));
     }
+    // voxels flagged printable (bridges laid at the radius) stay out of the skeleton: the line is
+    // left as it is, the rest of the pattern is treated as before
+    {
+        std::vector<std::uint8_t> printable(l0.size(), 0), flagged = before;
+        for (std::size_t v = 0; v < l0.size(); ++v) printable[v] = before[v] && at(v).x < 30;
+        const sp::thin_feature_report pr = sp::enlarge_thin_features(gs.graph(), flagged, 1.5, 1.0, nullptr, &printable);
+        CHECK(pr.added_voxels == 0);
+        CHECK(flagged == before);
+        std::vector<std::uint8_t> short_flags(5, 0);
+        CHECK_THROWS_AS(sp::enlarge_thin_features(gs.graph(), flagged, 1.5, 1.0, nullptr, &short_flags), invalid_input);
+    }
     std::vector<std::uint8_t> again = before;
     CHECK(sp::enlarge_thin_features(gs.graph(), again, 0.0, 1.0).added_voxels == 0);
     CHECK(again == before);

@@ -81,7 +81,10 @@ struct pattern_options {
     bool structure = true;       ///< false: appearance only, no structural loop (no stages, no validation)
     /// The structural loop (§5): material, gravity, design load, samples, geodesic factor, seed.
     /// r_pattern_mm = 0 is the exemplar's feature radius at the synthesis scale
-    /// (feature_px x mm_per_px); thickness_mm = 0 is this struct's thickness_mm.
+    /// (feature_px x mm_per_px); thickness_mm = 0 is this struct's thickness_mm; bridge_radius_mm
+    /// = 0 is the narrowest bridge that prints: max(min_feature / 2, one voxel), the radius §6.2.1
+    /// enlarges thin features to (at least one voxel, so a bridge is never a bare voxel path, which
+    /// §5.2 rules out). Set it to r_pattern_mm for the paper's bridges.
     structure_options structural{};
     int max_iterations = 30;     ///< bound on structural iterations (paper: 3-24 needed), >= 1
     bool stages = false;         ///< also the Table 3 stages (connectivity only; with the force profile)
@@ -153,6 +156,7 @@ struct pattern_result {
     double voxel_mm = 0;               ///< finest voxel size [mm]
     double mm_per_px = 0;              ///< the exemplar scale used [mm per pixel]
     double r_pattern_mm = 0;           ///< feature radius used by the structural loop [mm]
+    double bridge_radius_mm = 0;       ///< dilation radius of its bridges [mm]
     double min_feature_mm = 0;         ///< the smallest printable feature used [mm]
     double exemplar_solid_fraction = 0;
     double solid_fraction_synthesized = 0;  ///< of the shell voxels, after SYNTHESIZE
@@ -275,10 +279,14 @@ template <progress_callback P = no_progress>
         structure_options so = opt.structural;
         if (so.r_pattern_mm == 0) so.r_pattern_mm = syn.source().feature_px() * out.mm_per_px;
         if (so.thickness_mm == 0) so.thickness_mm = opt.thickness_mm;
+        if (so.bridge_radius_mm == 0) so.bridge_radius_mm = std::max(0.5 * out.min_feature_mm, h);
         out.r_pattern_mm = so.r_pattern_mm;
+        out.bridge_radius_mm = so.bridge_radius_mm;
         // §6.2.1 "Enlarging small features": within the shell, to the smallest printable radius
-        const auto finish = [&](synthesis_result& r, std::vector<std::uint8_t>* grown) {
-            return enlarge_thin_features(gs.graph(), r.solid, 0.5 * out.min_feature_mm, h, grown);
+        // (bridges laid at least that wide are kept out of its skeleton: thin_features.hpp)
+        const bool printable_bridges = so.bridge_radius() >= 0.5 * out.min_feature_mm;
+        const auto finish = [&](synthesis_result& r, std::vector<std::uint8_t>* grown, const std::vector<std::uint8_t>* bridges) {
+            return enlarge_thin_features(gs.graph(), r.solid, 0.5 * out.min_feature_mm, h, grown, printable_bridges ? bridges : nullptr);
         };
         if (opt.stages) {
             const char* names[2] = {"stage: connected", "stage: forces"};
@@ -287,16 +295,17 @@ template <progress_callback P = no_progress>
                 structure_options o = so;
                 o.geodesic_factor = 0;
                 o.force_criterion = k == 1;
-                (void)optimize_structure(syn, r, gs, o, opt.max_iterations, nullptr, [&](double f, std::string_view st) {
+                std::vector<std::uint8_t> stage_forced;
+                (void)optimize_structure(syn, r, gs, o, opt.max_iterations, &stage_forced, [&](double f, std::string_view st) {
                     report_progress(progress, 0.35 + 0.1 * k + 0.1 * f, std::string(names[k]) + ", " + std::string(st));
                 });
-                (void)finish(r, nullptr);
+                (void)finish(r, nullptr, &stage_forced);
                 (k == 0 ? out.stage_connected : out.stage_forces) = detail::printable_voxels(l0, r.solid, opt.thickness_mm);
             }
         }
         out.structure = optimize_structure(syn, result, gs, so, opt.max_iterations, &forced,
                                            [&](double f, std::string_view st) { report_progress(progress, 0.55 + 0.15 * f, st); }, &added);
-        out.thin_features = finish(result, &thin);
+        out.thin_features = finish(result, &thin, &forced);
         out.seconds.structural_analysis = out.structure.structure_seconds;
         out.seconds.resynthesis = out.structure.resynthesis_seconds;
     }

@@ -20,6 +20,12 @@
 ///     their dilation is inside the pattern anyway;
 ///  4. dilation: every shell voxel within min_radius_mm (geodesic in G_surface) of the skeleton
 ///     becomes solid. Where a feature is already wider than the radius nothing changes.
+/// Voxels known to be printable (optional `printable` flags: the reinforcement bridges of §5.2, laid
+/// as their voxel path dilated by at least this radius, i.e. already a skeleton dilated by it) are
+/// left out of the skeleton. The depth test cannot see that: a bridge two or three voxels wide on a
+/// staircase path has no voxel without an empty 26-neighbour, so all of it would read as skeleton
+/// and be widened by the radius once more (on the bunny with hooks at 256^3 that doubled the
+/// bridges' voxels).
 /// Deterministic (graph/ Dijkstra tie rules, index-order passes).
 #include <algorithm>
 #include <cmath>
@@ -43,12 +49,15 @@ struct thin_feature_report {
 
 /// See the file comment. `g` is G_surface (vertex = shell voxel), `solid` one 0/1 flag per vertex
 /// (updated), `spacing_mm` the voxel size (for the pruning rounds). `added` (optional, same size)
-/// gets 1 where a voxel was added. Throws invalid_input for sizes that do not match or a radius
+/// gets 1 where a voxel was added; `printable` (optional, same size) flags voxels kept out of the
+/// skeleton (see the file comment). Throws invalid_input for sizes that do not match or a radius
 /// that is not finite and >= 0 (0 changes nothing).
 inline thin_feature_report enlarge_thin_features(const graph::csr_graph<>& g, std::vector<std::uint8_t>& solid, double min_radius_mm,
-                                                 double spacing_mm, std::vector<std::uint8_t>* added = nullptr) {
+                                                 double spacing_mm, std::vector<std::uint8_t>* added = nullptr,
+                                                 const std::vector<std::uint8_t>* printable = nullptr) {
     const std::size_t n = g.num_vertices();
     if (solid.size() != n) throw invalid_input("enlarge_thin_features: one flag per shell voxel is needed");
+    if (printable && printable->size() != n) throw invalid_input("enlarge_thin_features: one printable flag per shell voxel is needed");
     if (!(std::isfinite(min_radius_mm) && min_radius_mm >= 0)) throw invalid_input("enlarge_thin_features: radius must be finite and >= 0");
     if (!(spacing_mm > 0)) throw invalid_input("enlarge_thin_features: spacing must be > 0");
     if (added) added->assign(n, 0);
@@ -69,7 +78,7 @@ inline thin_feature_report enlarge_thin_features(const graph::csr_graph<>& g, st
     // 2. ridges of the depth
     std::vector<std::uint8_t> skeleton(n, 0);
     for (std::size_t v = 0; v < n; ++v) {
-        if (!solid[v]) continue;
+        if (!solid[v] || (printable && (*printable)[v])) continue;
         bool ridge = true;
         const auto vid = static_cast<graph::vertex_id>(v);
         for (graph::arc_id e = g.edge_begin(vid); e < g.edge_end(vid); ++e) {
