@@ -6,7 +6,7 @@
 #
 #   BUILD_DIR        build tree holding examples/surface_patterns/surface_patterns (default build/release)
 #   OUT              output directory (default reproduce_surface_patterns): one folder per run
-#                    (pattern.stl, preview.png, report.json, ...), previews/ROW.png, tables.md
+#                    (pattern.stl, preview.png, report.json, ...), previews/ROW.png (320 px per view), tables.md
 #   RES              grid of Tables 1-2 (default 256, the paper's)
 #   VALIDATION_RES   grid of Table 3 (default 128: the voxel FEM of the stages does not fit the
 #                    paper's 256^3 in this machine's memory yet; see benchmarks/README.md)
@@ -14,7 +14,8 @@
 # Table 1's exemplars are the paper's where one is bundled (keyboard, hooks, waves) and the closest
 # bundled stand-ins otherwise: greencells -> voronoi_cells (cells), animalskin -> spots (leopard
 # blobs), bluebrown -> giraffe (a wobbly network around patches). The skull row (512^3) has no
-# bundled mesh and is left out. Takes about 5 minutes for Tables 1-2 and 15 for Table 3 on 2 cores.
+# bundled mesh and is left out. On the 2-core machine Tables 1-2 take about 4 minutes; Table 3
+# about 35 minutes per exemplar, nearly all of it the six voxel-FEM solves (issue 35).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=build/release out=reproduce_surface_patterns res=256 vres=128 table3=1
@@ -39,7 +40,7 @@ kitten=(--size 80 --thickness 1.2 --up 0 0 1 --gravity 0 0 -1 --seed 1)
 run() {
     local name=$1 mesh=$2; shift 2
     echo "== $name" >&2
-    "$sp" "$mesh" "$@" -q -o "$out/$name"
+    "$sp" "$mesh" "$@" --preview-size 320 -q -o "$out/$name"
     cp "$out/$name/preview.png" "$out/previews/$name.png"
 }
 run keyboard $D/meshes/bunny.obj --exemplar $D/exemplars/keyboard.png --color $D/exemplars/keyboard_color.png --feature 2 -r "$res" "${bunny[@]}"

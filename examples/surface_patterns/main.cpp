@@ -1,7 +1,7 @@
 // surface_patterns MESH --exemplar MASK.png [--color COLOR.png] --size MM --thickness MM --feature PX
 //                  [--resolution N] [--scale MM_PER_PX] [--up X Y Z] [--jitter F] [--seed S]
 //                  [--gravity X Y Z] [--material abs|pla] [--safety-factor F] [--samples N] [--geodesic F]
-//                  [--load-factor F] [--bridge-radius MM] [--bridge-band F] [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure]
+//                  [--load-factor F] [--bridge-radius MM] [--bridge-band F] [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure] [--preview-size PX]
 //                  -o OUTDIR
 //
 // By-example synthesis of a structurally sound pattern in the voxel shell of a mesh
@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     std::string mesh_path, mask_path, colour_path, out_dir, material_name = "abs";
     double size = 0, thickness = 0, feature = 0, scale = 0, jitter = 0.1, min_feature = -1, max_memory_gib = 16;
     double geodesic = 1.5, design_load = 0, load_factor = 20, safety_factor = 2, bridge_radius = 0, bridge_band = 0.25;
-    int resolution = 256, levels = 0, passes = 2, candidates = 128, smoothing = 20, max_iterations = 30;
+    int resolution = 256, levels = 0, passes = 2, candidates = 128, smoothing = 20, max_iterations = 30, preview_size = 768;
     std::size_t samples = 1000;
     std::vector<double> up{0, 0, 1}, gravity{0, 0, -1};
     std::uint64_t seed = 1;
@@ -150,6 +150,9 @@ int main(int argc, char** argv) {
     app.add_flag("--stages", stages, "also write solid_connected.vtk and solid_forces.vtk (Table 3 stages)");
     app.add_flag("--validate", validate, "full-resolution voxel FEM of the result (and of the stages): stress statistics in report.json");
     app.add_flag("--no-structure", no_structure, "appearance only, no structural optimization");
+    app.add_option("--preview-size", preview_size, "pixels of one view of preview.png (the picture is two views wide)")
+        ->check(CLI::Range(16, 8192))
+        ->capture_default_str();
     tool::add_memory_limit(app, max_memory_gib);
     app.add_option("-o,--output", out_dir, "output directory")->required();
 
@@ -193,7 +196,7 @@ int main(int argc, char** argv) {
 
         sp::pattern_options po;
         po.size_mm = size, po.resolution = resolution, po.levels = levels, po.thickness_mm = thickness, po.min_feature_mm = min_feature;
-        po.smoothing = smoothing, po.max_memory_bytes = max_memory_gib * double(1ull << 30);
+        po.smoothing = smoothing, po.preview_size = preview_size, po.max_memory_bytes = max_memory_gib * double(1ull << 30);
         po.synthesis = {.mm_per_px = scale, .candidates = candidates, .jitter = jitter, .up = up_dir, .passes = passes, .seed = seed};
         po.structure = !no_structure, po.max_iterations = max_iterations, po.stages = stages, po.validate = validate;
         po.structural.target_samples = samples, po.structural.seed = seed, po.structural.material = material, po.structural.safety_factor = safety_factor;
