@@ -1,7 +1,7 @@
 // surface_patterns MESH --exemplar MASK.png [--color COLOR.png] --size MM --thickness MM --feature PX
 //                  [--resolution N] [--scale MM_PER_PX] [--up X Y Z] [--jitter F] [--seed S]
 //                  [--gravity X Y Z] [--material abs|pla] [--safety-factor F] [--samples N] [--geodesic F]
-//                  [--load-factor F] [--bridge-radius MM] [--bridge-band F] [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure] [--preview-size PX]
+//                  [--load-factor F] [--support-plane PX PY PZ NX NY NZ [--support-band MM]] [--loads FILE] [--bridge-radius MM] [--bridge-band F] [--design-load N] [--max-iterations K] [--stages] [--validate] [--no-structure] [--preview-size PX]
 //                  -o OUTDIR
 //
 // By-example synthesis of a structurally sound pattern in the voxel shell of a mesh
@@ -63,6 +63,40 @@ io::structured_points byte_grid(const grid_geometry& g, const std::string& name,
     return out;
 }
 
+/// --loads FILE: one force per line, "x y z fx fy fz [radius]" (mm, N, mm; commas or blanks
+/// between numbers, '#' starts a comment). Throws invalid_input naming the file and line.
+std::vector<sp::area_load> read_loads(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw io_error("cannot open --loads file '" + path + "'");
+    std::vector<sp::area_load> loads;
+    std::string line;
+    for (int no = 1; std::getline(in, line); ++no) {
+        if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+        for (char& c : line)
+            if (c == ',' || c == '\t' || c == '\r') c = ' ';
+        std::vector<double> v;
+        std::size_t pos = 0;
+        while (pos < line.size()) {
+            if (line[pos] == ' ') { ++pos; continue; }
+            const std::size_t end = std::min(line.find(' ', pos), line.size());
+            const std::string tok = line.substr(pos, end - pos);
+            char* stop = nullptr;
+            const double x = std::strtod(tok.c_str(), &stop);
+            if (stop != tok.c_str() + tok.size() || !std::isfinite(x))
+                throw invalid_input(path + ":" + std::to_string(no) + ": '" + tok + "' is not a finite number (expected x y z fx fy fz [radius])");
+            v.push_back(x);
+            pos = end;
+        }
+        if (v.empty()) continue;
+        if (v.size() != 6 && v.size() != 7)
+            throw invalid_input(path + ":" + std::to_string(no) + ": " + std::to_string(v.size()) + " numbers, expected x y z fx fy fz [radius] (mm, N, mm)");
+        if (v.size() == 7 && v[6] < 0) throw invalid_input(path + ":" + std::to_string(no) + ": the radius must be >= 0 mm");
+        loads.push_back({vec3(v[0], v[1], v[2]), vec3(v[3], v[4], v[5]), v.size() == 7 ? v[6] : 0.0});
+    }
+    if (loads.empty()) throw invalid_input("--loads file '" + path + "' holds no load");
+    return loads;
+}
+
 nlohmann::ordered_json stats_json(const sp::stress_statistics& s) {
     return {{"average_pa", s.average}, {"median_pa", s.median}, {"p99_pa", s.p99}, {"max_pa", s.max}, {"elements", s.elements},
             {"fixed_elements", s.fixed_elements}, {"unsupported_pieces", s.unsupported_pieces}, {"unsupported_voxels", s.unsupported_voxels},
@@ -108,7 +142,9 @@ int main(int argc, char** argv) {
     double geodesic = 1.5, design_load = 0, load_factor = 20, safety_factor = 2, bridge_radius = 0, bridge_band = 0.25;
     int resolution = 256, levels = 0, passes = 2, candidates = 128, smoothing = 20, max_iterations = 30, preview_size = 768;
     std::size_t samples = 1000;
-    std::vector<double> up{0, 0, 1}, gravity{0, 0, -1};
+    std::vector<double> up{0, 0, 1}, gravity{0, 0, -1}, support_plane;
+    double support_band = -1;
+    std::string loads_path;
     std::uint64_t seed = 1;
     bool no_structure = false, no_tiling = false, stages = false, validate = false;
     app.add_option("mesh", mesh_path, "input triangle mesh (.obj, .stl, .ply); open meshes are carved along their surface")->required();
@@ -129,6 +165,17 @@ int main(int argc, char** argv) {
     app.add_option("--smoothing", smoothing, "Taubin smoothing iterations of pattern.stl")->check(CLI::Range(0, 200));
     app.add_flag("--no-tiling", no_tiling, "the exemplar does not tile: penalise lookups near its border (§6.1)");
     app.add_option("--gravity", gravity, "force profile: gravity direction; the lowest 10% along it are the supports")->expected(3);
+    CLI::Option* plane_opt = app.add_option("--support-plane", support_plane,
+                   "supports: the abstract vertices (and, with --validate, the voxels) within --support-band of the plane through PX PY PZ "
+                   "with normal NX NY NZ are fixed, instead of the lowest 10% along --gravity (mm, in the scaled mesh's frame: bounding-box "
+                   "corner at the origin, longest side --size)")
+        ->expected(6);
+    app.add_option("--support-band", support_band, "supports: half-width of the band around --support-plane (mm; default one voxel)")
+        ->check(CLI::NonNegativeNumber)
+        ->needs(plane_opt);
+    app.add_option("--loads", loads_path,
+                   "force profile: a file of forces, one per line 'x y z fx fy fz [radius]' (mm, N, mm; the scaled mesh's frame), each shared by "
+                   "the abstract vertices within radius of the point (the nearest when none is); replaces the weight rule");
     app.add_option("--material", material_name, "printing material: abs or pla (elastic constants, tensile strength)");
     app.add_option("--safety-factor", safety_factor, "force profile: beams are reinforced until their stress is below the tensile strength / F")
         ->check(CLI::PositiveNumber)
@@ -163,7 +210,7 @@ int main(int argc, char** argv) {
                        report = out / "report.json", connected_vtk = out / "solid_connected.vtk", forces_vtk = out / "solid_forces.vtk";
         std::vector<fs::path> outputs{stl, shell_vtk, solid_vtk, preview, report};
         if (stages) outputs.push_back(connected_vtk), outputs.push_back(forces_vtk);
-        tool::check_outputs({mesh_path, mask_path, colour_path}, outputs);
+        tool::check_outputs({mesh_path, mask_path, colour_path, loads_path}, outputs);
         if (no_structure && (stages || validate)) throw invalid_input("--stages and --validate need the structural optimizer: drop --no-structure");
         if (!(std::isfinite(feature) && feature > 0)) throw invalid_input("--feature must be a finite number of pixels > 0, got " + std::to_string(feature));
         const double h = size / resolution;
@@ -173,6 +220,10 @@ int main(int argc, char** argv) {
             throw invalid_input(msg);
         }
         if (min_feature < 0) min_feature = thickness;
+        if (!(support_band < 0 || std::isfinite(support_band))) throw invalid_input("--support-band must be a finite number of mm >= 0");
+        if (no_structure && (!support_plane.empty() || !loads_path.empty()))
+            throw invalid_input("--support-plane and --loads act on the structural optimizer: drop --no-structure");
+        if (!loads_path.empty() && design_load > 0) throw invalid_input("--loads replaces --design-load: give one of them");
         const vec3 up_dir(up[0], up[1], up[2]), gravity_dir(gravity[0], gravity[1], gravity[2]);
         if (!(glm::length(gravity_dir) > 0) || !all_finite(gravity_dir)) throw invalid_input("--gravity must be a finite non-zero direction");
         const sp::print_material material = sp::print_material::named(material_name);
@@ -202,6 +253,10 @@ int main(int argc, char** argv) {
         po.structural.target_samples = samples, po.structural.seed = seed, po.structural.material = material, po.structural.safety_factor = safety_factor;
         po.structural.design_load_n = design_load, po.structural.load_factor = load_factor, po.structural.gravity = gravity_dir, po.structural.geodesic_factor = geodesic;
         po.structural.bridge_radius_mm = bridge_radius, po.structural.bridge_band = bridge_band;
+        if (!support_plane.empty())
+            po.structural.fixed = sp::plane_support({support_plane[0], support_plane[1], support_plane[2]},
+                                                    {support_plane[3], support_plane[4], support_plane[5]}, support_band < 0 ? h : support_band);
+        if (!loads_path.empty()) po.structural.loads = read_loads(loads_path);
         const sp::pattern_result res = sp::make_pattern(mesh, std::move(ex), po, progress);
 
         // everything is computed: write the set
@@ -279,6 +334,13 @@ int main(int argc, char** argv) {
             rep["material"] = material.name;
             rep["gravity"] = gravity;
             rep["design_load_n"] = design_load;
+            if (!support_plane.empty()) rep["support_plane"] = {{"point_normal", support_plane}, {"band_mm", support_band < 0 ? h : support_band}};
+            if (!loads_path.empty()) {
+                nlohmann::ordered_json ls = nlohmann::ordered_json::array();
+                for (const sp::area_load& L : po.structural.loads)
+                    ls.push_back({{"at_mm", {L.at.x, L.at.y, L.at.z}}, {"force_n", {L.force_n.x, L.force_n.y, L.force_n.z}}, {"radius_mm", L.radius_mm}});
+                rep["loads"] = ls;
+            }
             rep["load_factor"] = load_factor;
             rep["safety_factor"] = safety_factor;
             rep["allowable_stress_mpa"] = po.structural.allowable_stress_mpa();

@@ -373,6 +373,9 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
     const std::string nan_obj = write_file("sp_nan.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n");
     const std::string no_faces = write_file("sp_empty.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
     const std::string not_png = write_file("sp_not.png", "this is not a PNG file");
+    const std::string bad_loads = write_file("sp_loads_bad.txt", "# x y z fx fy fz radius\n20 20 20 0 -1 0 5\n20 20 0 -1\n");
+    const std::string nan_loads = write_file("sp_loads_nan.txt", "20 20 20 0 nan 0\n");
+    const std::string no_loads = write_file("sp_loads_empty.txt", "# nothing\n\n");
     fabsynth::io::write_png(work_dir / "sp_full.png", fabsynth::image8(16, 16, 1, 255));
     fabsynth::io::write_png(work_dir / "sp_empty.png", fabsynth::image8(16, 16, 1, 0));
     auto args = [&](std::vector<std::string> extra) {
@@ -414,6 +417,13 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
              {"validation too large for memory", structural({"--validate", "--max-memory", "0.001"}), 2, "GiB"},
              {"zero safety factor", structural({"--safety-factor", "0"}), 2, "--safety-factor"},
              {"NaN up", args({"--up", "nan", "0", "1"}), 2, "up"},
+             {"support band without a plane", structural({"--support-band", "2"}), 2, "--support-plane"},
+             {"support plane with a zero normal", structural({"--support-plane", "0", "0", "0", "0", "0", "0"}), 2, "normal"},
+             {"loads line with four numbers", structural({"--loads", bad_loads}), 2, "sp_loads_bad.txt:3"},
+             {"loads with NaN", structural({"--loads", nan_loads}), 2, "sp_loads_nan.txt:1"},
+             {"loads file without a load", structural({"--loads", no_loads}), 2, "no load"},
+             {"loads and a design load", structural({"--loads", (work_dir / "sp_loads_bad.txt").string(), "--design-load", "3"}), 2, "--design-load"},
+             {"loads without the optimizer", args({"--loads", bad_loads}), 2, "--no-structure"},
          })
         check_case("surface_patterns", c);
     CHECK_FALSE(fs::exists(out));

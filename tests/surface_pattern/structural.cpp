@@ -239,6 +239,58 @@ TEST_CASE("structure step: bridges are the empty runs of the inserted paths dila
     CHECK_THROWS_AS(bad.validate(), invalid_input);
 }
 
+TEST_CASE("structure step: user loads and supports (plane_support, area_load)", "[surface_pattern][structure]") {
+    bunny_case b("hooks.png", 5, 4);
+    const sp::shell_level& l0 = b.l0();
+    auto run = [&](const sp::structure_options& o) {
+        std::vector<std::uint8_t> solid = b.r.solid, reinforcement;
+        return std::make_pair(sp::structural_step(b.gs, l0, solid, reinforcement, o), solid);
+    };
+    sp::structure_options base = b.options(5);
+    base.geodesic_factor = 0;
+    // the oracle: one area load along gravity whose radius reaches every vertex is the design load,
+    // spread equally over the abstract vertices
+    sp::structure_options designed = base, area = base;
+    designed.design_load_n = 10.0;
+    area.loads = {{.at = {25, 25, 25}, .force_n = 10.0 * vec3(0, -1, 0), .radius_mm = 1e6}};
+    const auto [rd, sd] = run(designed);
+    const auto [ra, sa] = run(area);
+    CHECK(ra.load_n == Approx(10.0));
+    CHECK(ra.max_stress_mpa == Approx(rd.max_stress_mpa).epsilon(1e-9));
+    CHECK(ra.inserted == rd.inserted);
+    CHECK(sa == sd);
+    // a point load (radius 0, the nearest vertex takes it): the total is reported, stresses are
+    // linear in it
+    sp::structure_options point = base, twice = base;
+    point.loads = {{.at = {25, 40, 25}, .force_n = {0, -2, 0}, .radius_mm = 0}};
+    twice.loads = {{.at = {25, 40, 25}, .force_n = {0, -4, 0}, .radius_mm = 0}};
+    const sp::structural_step_report rp = run(point).first;
+    CHECK(rp.load_n == Approx(2.0));
+    CHECK(run(twice).first.max_stress_mpa == Approx(2 * rp.max_stress_mpa).epsilon(1e-6));
+    // hung from a band at the top instead of standing on the lowest 10%: other bridges
+    vec3 lo(1e9), hi(-1e9);
+    for (std::size_t v = 0; v < l0.size(); ++v) lo = glm::min(lo, l0.center(v)), hi = glm::max(hi, l0.center(v));
+    sp::structure_options hung = designed;
+    hung.fixed = sp::plane_support(hi, {0, 1, 0}, 0.1 * (hi.y - lo.y));
+    CHECK(hung.fixed(vec3(0, hi.y - 0.05 * (hi.y - lo.y), 0)));
+    CHECK_FALSE(hung.fixed(vec3(0, lo.y, 0)));
+    const auto [rh, sh] = run(hung);
+    CHECK(rh.components_after == 1);
+    CHECK(rh.inserted != rd.inserted);
+    // refused: a plane no vertex lies on, bad planes and loads
+    sp::structure_options nowhere = designed;
+    nowhere.fixed = sp::plane_support(hi + vec3(0, 100, 0), {0, 1, 0}, 1.0);
+    CHECK_THROWS_AS(run(nowhere), no_solution);
+    CHECK_THROWS_AS(sp::plane_support({0, 0, 0}, {0, 0, 0}, 1), invalid_input);
+    CHECK_THROWS_AS(sp::plane_support({0, 0, 0}, {0, 0, 1}, -1), invalid_input);
+    sp::structure_options bad = area;
+    bad.loads[0].radius_mm = -1;
+    CHECK_THROWS_AS(bad.validate(), invalid_input);
+    bad = area;
+    bad.load = [](const vec3&) { return vec3(0, -1, 0); };
+    CHECK_THROWS_AS(bad.validate(), invalid_input);
+}
+
 TEST_CASE("structure step: identical for any thread count", "[surface_pattern][structure]") {
     test::thread_count_guard guard;
     bunny_case b("giraffe.png", 5, 5);

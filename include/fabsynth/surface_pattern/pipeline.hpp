@@ -336,6 +336,7 @@ template <progress_callback P = no_progress>
         vo.material = opt.structural.material.elastic;
         vo.density_kg_m3 = opt.structural.material.elastic.density * 1e12;  // t/mm^3 -> kg/m^3
         vo.gravity = opt.structural.gravity;
+        vo.fixed = opt.structural.fixed;  // the user's supports, if any (the loads stay the paper's two weights)
         const auto run = [&](const char* name, const voxel_set& vs, double at) {
             const auto sub = [&](double f, std::string_view st) { report_progress(progress, at + 0.04 * f, std::string("validate ") + name + ", " + std::string(st)); };
             stress_field e = validate_stress_field(vs, vo, sub), u = validate_stress_field(vs, unexpected(vo), sub);

@@ -17,7 +17,8 @@
 ///     component on its own", §5.1): each piece of the mesh gets its own supports, the lowest
 ///     support_fraction of its extent along gravity, and the load (the pattern's weight times
 ///     load_factor, or design_load_n) spread equally over the abstract vertices of all pieces, along
-///     gravity (or the user's force callbacks).
+///     gravity (or the user's profile: `fixed` supports, e.g. plane_support, and point / area
+///     `loads` or a `load` callback).
 ///  2. Connect (§5.2, first criterion): while the solid edges leave more than one component in a
 ///     piece of the mesh, solve and insert the empty edges of highest score that join two different
 ///     components, up to edges_per_solve per solve with the dart-throwing exclusion (an edge whose
@@ -148,6 +149,27 @@ struct print_material {
     }
 };
 
+/// A force [N] on the pattern at a point [mm] (a finger, a hook, a weight hung from the object),
+/// shared equally by the abstract vertices within radius_mm of `at`; when none is that close, the
+/// nearest vertex takes all of it (a point load).
+struct area_load {
+    vec3 at{};                ///< [mm], in the scaled mesh's frame (the shell grid's coordinates)
+    vec3 force_n{};           ///< [N]
+    double radius_mm = 0;     ///< >= 0; 0 = the nearest abstract vertex
+};
+
+/// The supports of §5.2.1 as a band around a plane: fixes the abstract vertices whose distance to
+/// the plane through `point` [mm] with normal `normal` is at most band_mm (e.g. the table the
+/// object stands on, or a wall it is screwed to). For structure_options::fixed. Throws
+/// invalid_input for a zero or non-finite normal, a non-finite point or a band < 0.
+[[nodiscard]] inline std::function<bool(const vec3&)> plane_support(vec3 point, vec3 normal, double band_mm) {
+    if (!all_finite(point)) throw invalid_input("support plane: the point must be finite");
+    if (!all_finite(normal) || !(glm::length(normal) > 0)) throw invalid_input("support plane: the normal must be a finite non-zero vector");
+    if (!(std::isfinite(band_mm) && band_mm >= 0)) throw invalid_input("support plane: the band must be finite and >= 0 mm");
+    const vec3 n = glm::normalize(normal);
+    return [point, n, band_mm](const vec3& p) { return std::abs(glm::dot(p - point, n)) <= band_mm; };
+}
+
 /// Which criterion inserted an edge (§5.2).
 enum class bridge_criterion : std::uint8_t { connect, force, geodesic };
 
@@ -171,6 +193,9 @@ struct structure_options {
     /// `load` gives the force [N] on a vertex from its position (replacing the design load).
     std::function<bool(const vec3&)> fixed{};
     std::function<vec3(const vec3&)> load{};
+    /// Forces at points (area_load); non-empty: they are the whole force profile (replacing the
+    /// design load and `load`), and a piece of the mesh that none of them reaches is unloaded.
+    std::vector<area_load> loads{};
     double geodesic_factor = 1.5;     ///< §5.2.2 threshold: factor x the extent of the shell; <= 0 turns the criterion off
     bool force_criterion = true;      ///< false: connect only, then the geodesic criterion (Table 3 stages)
     int edges_per_solve = 8;          ///< insertions per FEM solve (connect, force), >= 1
@@ -203,6 +228,10 @@ struct structure_options {
         if (max_force_solves < 0) throw invalid_input("structure: max_force_solves must be >= 0");
         if (!(std::isfinite(beam_width_mm) && beam_width_mm >= 0)) throw invalid_input("structure: beam width must be finite and >= 0");
         if (!(bridge_band > 0 && bridge_band <= 1)) throw invalid_input("structure: bridge_band must lie in (0, 1]");
+        for (std::size_t i = 0; i < loads.size(); ++i)
+            if (!all_finite(loads[i].at) || !all_finite(loads[i].force_n) || !(std::isfinite(loads[i].radius_mm) && loads[i].radius_mm >= 0))
+                throw invalid_input("structure: load " + std::to_string(i + 1) + " needs a finite point, a finite force and a radius >= 0 mm");
+        if (!loads.empty() && load) throw invalid_input("structure: give either point loads (loads) or a load callback (load), not both");
     }
 };
 
@@ -216,7 +245,7 @@ struct structural_step_report {
     double max_stress_mpa = 0;       ///< largest solid-edge score of the first solve [MPa]
     double max_stress_after_mpa = 0; ///< largest solid-edge score of the last solve (after the force phase) [MPa]
     double allowable_stress_mpa = 0;
-    double load_n = 0;               ///< total force of the default profile this step [N] (unused when opt.load is set)
+    double load_n = 0;               ///< total force of the default profile this step [N] (the sum of |force| of opt.loads when given; unused when opt.load is set)
     bool force_bound_hit = false;    ///< the force phase stopped at max_force_solves while overloaded
     double geodesic_threshold_mm = 0;
     double max_geodesic_mm = 0;      ///< largest geodesic score among empty edges at the end (inf if a piece is disconnected)
@@ -284,6 +313,23 @@ struct piece_models {
         edges_of[p].push_back(static_cast<std::uint32_t>(e));
     }
     const double load_per_vertex = ns ? total_load_n / static_cast<double>(ns) : 0.0;
+    // user point / area loads: each shared by the samples within its radius (else the nearest)
+    std::vector<vec3> user_force;
+    if (!opt.loads.empty()) {
+        user_force.assign(ns, vec3(0));
+        for (const area_load& L : opt.loads) {
+            std::vector<std::uint32_t> in;
+            std::size_t nearest = 0;
+            double best = std::numeric_limits<double>::infinity();
+            for (std::size_t k = 0; k < ns; ++k) {
+                const double d = glm::length(l0.center(ag.samples[k]) - L.at);
+                if (d <= L.radius_mm) in.push_back(static_cast<std::uint32_t>(k));
+                if (d < best) best = d, nearest = k;
+            }
+            if (in.empty() && ns) in.push_back(static_cast<std::uint32_t>(nearest));
+            for (const std::uint32_t k : in) user_force[k] += L.force_n / static_cast<double>(in.size());
+        }
+    }
     const double width = opt.beam_width_mm;  // 0: beam_model's own rule
     pm.pieces.resize(comps.size());
     for (std::size_t p = 0; p < comps.size(); ++p) {
@@ -308,11 +354,12 @@ struct piece_models {
             be.push_back({local_vertex[ag.edges[e].a], local_vertex[ag.edges[e].b], ag.edges[e].solid, knot});
         }
         std::optional<force_profile> profile;
-        if (opt.fixed || opt.load) {
+        if (opt.fixed || opt.load || !user_force.empty()) {
             force_profile fp;
             for (std::size_t i = 0; i < bv.size(); ++i) {
                 if (opt.fixed && opt.fixed(bv[i].position)) fp.fixed_vertices.push_back(static_cast<std::uint32_t>(i));
                 if (opt.load) fp.loads.emplace_back(static_cast<std::uint32_t>(i), opt.load(bv[i].position));
+                if (!user_force.empty()) fp.loads.emplace_back(static_cast<std::uint32_t>(i), user_force[P.vertex[i]]);  // zeros keep the weight rule off
             }
             if (opt.fixed && fp.fixed_vertices.empty())
                 throw no_solution("structure: the force profile fixes no abstract vertex of mesh piece " + std::to_string(comps[p]) +
@@ -438,6 +485,10 @@ structural_step_report structural_step(const surface_graph& gs, const shell_leve
         const double area_mm2 = solid_voxels * l0.geometry.spacing.x * l0.geometry.spacing.y;
         constexpr double g_mm_s2 = 9810.0;
         rep.load_n = opt.design_load_n > 0 ? opt.design_load_n : opt.load_factor * area_mm2 * opt.thickness_mm * opt.material.elastic.density * g_mm_s2;
+        if (!opt.loads.empty()) {
+            rep.load_n = 0;
+            for (const area_load& L : opt.loads) rep.load_n += glm::length(L.force_n);
+        }
     }
     detail::piece_models pm = detail::build_piece_models(ag, l0, opt, rep.load_n);
     rep.beam_width_mm = pm.width_mm;

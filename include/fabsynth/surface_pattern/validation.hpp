@@ -53,6 +53,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -91,6 +92,9 @@ struct validation_options {
     double tolerance = 1e-6;       ///< CG: stop at ||f - K u|| <= tolerance ||f|| (fem/voxel.hpp)
     int max_iterations = 5000;     ///< CG iterations before solver_error (fem/voxel.hpp's default)
     bool require_supported = false;  ///< throw no_solution for unsupported pieces instead of leaving them out
+    /// Optional supports: the voxels whose centre [mm] makes this true are fixed, instead of the
+    /// support_fraction rule (e.g. structure_options::fixed, plane_support). The load stays the weight.
+    std::function<bool(const vec3&)> fixed{};
 
     /// Throws invalid_input for non-finite or out-of-range values (zero gravity included).
     void validate() const {
@@ -203,7 +207,7 @@ template <progress_callback P = no_progress>
     }
     const double cut = opt.support_fraction * (hi - lo);
     std::vector<std::uint8_t> fixed(n);
-    for (std::size_t i = 0; i < n; ++i) fixed[i] = hi - depth[i] <= cut ? 1 : 0;
+    for (std::size_t i = 0; i < n; ++i) fixed[i] = (opt.fixed ? opt.fixed(geo.center(solid.voxels[i])) : hi - depth[i] <= cut) ? 1 : 0;
 
     // Face-connected pieces; keep those with a supported voxel.
     const voxel_set_components cc = set_components(solid, connectivity::c6{});
