@@ -239,7 +239,7 @@ TEST_CASE("structure step: bridges are the empty runs of the inserted paths dila
     CHECK_THROWS_AS(bad.validate(), invalid_input);
 }
 
-TEST_CASE("structure step: user loads and supports (plane_support, area_load)", "[surface_pattern][structure]") {
+TEST_CASE("structure step: user loads and supports (plane_support, area_load)", "[surface_pattern][structure][slow]") {
     bunny_case b("hooks.png", 5, 4);
     const sp::shell_level& l0 = b.l0();
     auto run = [&](const sp::structure_options& o) {

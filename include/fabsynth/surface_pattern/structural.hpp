@@ -93,11 +93,13 @@
 ///    the 2 r_pattern of a dilated bridge: with ~1000 samples the edges are only 1-2 bridge widths
 ///    long, and beams that wide leave hubs so crowded that most beams are short, twisted elements
 ///    whose stresses are artefacts (tens of GPa on the bunny). Hubs with more neighbours than the
-///    width allows get narrower sides (beam_model.hpp). The pattern's features and bridges are
-///    2 r_pattern wide, so the scores are scaled by w / (2 r_pattern) (when w is narrower) before
+///    width allows get narrower sides (beam_model.hpp). The pattern's features are 2 r_pattern
+///    wide, so the scores are scaled by w / (2 r_pattern) (when w is narrower) before
 ///    they are compared with the allowable stress: to first order the axial and out-of-plane
 ///    bending stresses of a beam scale with 1 / width (in-plane bending with 1 / width^2, so this
-///    is conservative there). An edge no single hex can follow (across
+///    is conservative there). Narrow bridges (bridge_radius_mm < r_pattern_mm) are scored at the
+///    same width, so their own stress is underestimated by up to 2 r_pattern / (2 bridge radius +
+///    one voxel); the full voxel validation (validation.hpp) is the check. An edge no single hex can follow (across
 ///    a thin part) is split at the voxel half-way along its path.
 ///  - Specks: the abstract graph gives every solid component a sample, so tiny islands left by
 ///    the synthesis would be bridged; remove them before (fabricate.hpp remove_specks).

@@ -24,8 +24,8 @@
 /// as their voxel path dilated by at least this radius, i.e. already a skeleton dilated by it) are
 /// left out of the skeleton. The depth test cannot see that: a bridge two or three voxels wide on a
 /// staircase path has no voxel without an empty 26-neighbour, so all of it would read as skeleton
-/// and be widened by the radius once more (on the bunny with hooks at 256^3 that doubled the
-/// bridges' voxels).
+/// and be widened by the radius once more (on the bunny with hooks at 256^3 that added about 6 600
+/// voxels to 15 000 bridge voxels).
 /// Deterministic (graph/ Dijkstra tie rules, index-order passes).
 #include <algorithm>
 #include <cmath>
