@@ -31,6 +31,8 @@
 #include <fabsynth/core.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/geometry/render.hpp>
+#include <fabsynth/io/detail/number_lines.hpp>
+#include <fabsynth/io/detail/read_file.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/atomic_file.hpp>
@@ -63,37 +65,16 @@ io::structured_points byte_grid(const grid_geometry& g, const std::string& name,
     return out;
 }
 
-/// --loads FILE: one force per line, "x y z fx fy fz [radius]" (mm, N, mm; commas or blanks
-/// between numbers, '#' starts a comment). Throws invalid_input naming the file and line.
+/// --loads FILE: one force per line, "x y z fx fy fz [radius]" (mm, N, mm), in io/numbers.hpp's
+/// text form (blanks or commas, '#' comments). Throws io_error naming the file and line.
 std::vector<sp::area_load> read_loads(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw io_error("cannot open --loads file '" + path + "'");
     std::vector<sp::area_load> loads;
-    std::string line;
-    for (int no = 1; std::getline(in, line); ++no) {
-        if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-        for (char& c : line)
-            if (c == ',' || c == '\t' || c == '\r') c = ' ';
-        std::vector<double> v;
-        std::size_t pos = 0;
-        while (pos < line.size()) {
-            if (line[pos] == ' ') { ++pos; continue; }
-            const std::size_t end = std::min(line.find(' ', pos), line.size());
-            const std::string tok = line.substr(pos, end - pos);
-            char* stop = nullptr;
-            const double x = std::strtod(tok.c_str(), &stop);
-            if (stop != tok.c_str() + tok.size() || !std::isfinite(x))
-                throw invalid_input(path + ":" + std::to_string(no) + ": '" + tok + "' is not a finite number (expected x y z fx fy fz [radius])");
-            v.push_back(x);
-            pos = end;
-        }
-        if (v.empty()) continue;
-        if (v.size() != 6 && v.size() != 7)
-            throw invalid_input(path + ":" + std::to_string(no) + ": " + std::to_string(v.size()) + " numbers, expected x y z fx fy fz [radius] (mm, N, mm)");
-        if (v.size() == 7 && v[6] < 0) throw invalid_input(path + ":" + std::to_string(no) + ": the radius must be >= 0 mm");
+    io::detail::for_each_number_line(io::detail::read_file(path), path, [&](std::size_t line, const std::vector<double>& v) {
+        if (v.size() != 6 && v.size() != 7) throw io_error(path, line, std::to_string(v.size()) + " numbers, expected x y z fx fy fz [radius] (mm, N, mm)");
+        if (v.size() == 7 && v[6] < 0) throw io_error(path, line, "the radius must be >= 0 mm");
         loads.push_back({vec3(v[0], v[1], v[2]), vec3(v[3], v[4], v[5]), v.size() == 7 ? v[6] : 0.0});
-    }
-    if (loads.empty()) throw invalid_input("--loads file '" + path + "' holds no load");
+    });
+    if (loads.empty()) throw io_error("--loads file '" + path + "' holds no load");
     return loads;
 }
 

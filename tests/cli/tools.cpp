@@ -419,9 +419,9 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
              {"NaN up", args({"--up", "nan", "0", "1"}), 2, "up"},
              {"support band without a plane", structural({"--support-band", "2"}), 2, "--support-plane"},
              {"support plane with a zero normal", structural({"--support-plane", "0", "0", "0", "0", "0", "0"}), 2, "normal"},
-             {"loads line with four numbers", structural({"--loads", bad_loads}), 2, "sp_loads_bad.txt:3"},
-             {"loads with NaN", structural({"--loads", nan_loads}), 2, "sp_loads_nan.txt:1"},
-             {"loads file without a load", structural({"--loads", no_loads}), 2, "no load"},
+             {"loads line with four numbers", structural({"--loads", bad_loads}), 5, "sp_loads_bad.txt:3"},
+             {"loads with NaN", structural({"--loads", nan_loads}), 5, "sp_loads_nan.txt:1"},
+             {"loads file without a load", structural({"--loads", no_loads}), 5, "no load"},
              {"loads and a design load", structural({"--loads", (work_dir / "sp_loads_bad.txt").string(), "--design-load", "3"}), 2, "--design-load"},
              {"loads without the optimizer", args({"--loads", bad_loads}), 2, "--no-structure"},
          })
