@@ -270,6 +270,8 @@ int main(int argc, char** argv) {
     std::vector<double> rect, field_scale;
     double scale = 0, width = 0, rotation_deg = 0, thickness = 1.0, sigma_d = 0.15, sigma_f = 0.05, tolerance = 0.05;
     double pressure = 1000.0;
+    filigree_options defaults;
+    double crossing_penalty = defaults.synthesis.crossing_penalty;
     int rounds = 6;
     double max_elements = 5000;
     bool no_structure = false;
@@ -293,6 +295,9 @@ int main(int argc, char** argv) {
     app.add_option("--sigma-d", sigma_d, "distortion bound of smooth connections (Table 1: 0.13-0.17)")->capture_default_str();
     app.add_option("--sigma-f", sigma_f, "fraction of the best pairs boosting learns from (Table 1: 0.045-0.05)")->capture_default_str();
     app.add_option("--rounds", rounds, "most rounds of placement + boosting")->capture_default_str();
+    app.add_option("--crossing-penalty", crossing_penalty,
+                   "mm added to a pair's matching energy per strip crossing of its two elements (0: the paper's eq. 2 alone)")
+        ->capture_default_str();
     app.add_option("--tolerance", tolerance, "polygonal approximation of the element skeletons, mm")->capture_default_str();
     app.add_option("--max-elements", max_elements, "refuse domains estimated to need more element instances than this")->capture_default_str();
     app.add_option("-o,--output", out_path, "output SVG; OUT.stl, OUT.png, OUT_steps.png and OUT.json are written beside it")->required();
@@ -315,7 +320,9 @@ int main(int argc, char** argv) {
         auto progress = common.progress();
         const auto t_start = std::chrono::steady_clock::now();
         filigree_options opt;  // as the library's defaults, set from the options above
+        tool::require_range(crossing_penalty, 0.0, 1e3, "--crossing-penalty", "mm");
         opt.synthesis.seed = seed, opt.synthesis.sigma_d = sigma_d, opt.synthesis.sigma_f = sigma_f, opt.synthesis.max_rounds = rounds;
+        opt.synthesis.crossing_penalty = crossing_penalty;
         opt.reinforcement.thickness = thickness, opt.reinforcement.pressure_pa = pressure, opt.reinforcement.enabled = !no_structure;
         if (!on_mesh.mesh.empty()) {
             opt.reinforcement.material = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
@@ -389,6 +396,10 @@ int main(int argc, char** argv) {
             {"connected_components", rf.components},
             {"pieces_dropped", rf.pieces_dropped},
             {"pieces_dropped_area_fraction", rf.dropped_area_fraction},
+            {"appearance", {{"transversal_crossings", f.appearance.transversal_crossings},
+                            {"crossings_per_instance", f.appearance.crossings_per_instance},
+                            {"overlap_area_fraction", f.appearance.overlap_area_fraction},
+                            {"free_ends", f.appearance.free_ends}}},
             {"structure", structure_fields(rf, material, pressure, nullptr)},
             {"thickness_mm", rf.thickness},
             {"stl_triangles", f.mesh.faces.size()},
@@ -410,9 +421,9 @@ int main(int argc, char** argv) {
         outputs.commit();
         progress(1.0, "write");
         char line[400];
-        std::snprintf(line, sizeof line, "%s: %zu instances of %zu element classes, %d rounds, PME %.1f -> %.1f, %zu component(s), thickness %.3g mm",
-                      svg_out.string().c_str(), rf.instances.size(), classes.size(), syn.rounds, syn.energy_initial, syn.energy_final, rf.components,
-                      rf.thickness);
+        std::snprintf(line, sizeof line, "%s: %zu instances of %zu element classes, %d rounds, PME %.1f -> %.1f, %.2f crossings per instance, %zu component(s), thickness %.3g mm",
+                      svg_out.string().c_str(), rf.instances.size(), classes.size(), syn.rounds, syn.energy_initial, syn.energy_final,
+                      f.appearance.crossings_per_instance, rf.components, rf.thickness);
         common.say(line);
         common.summary(report);
     });

@@ -30,5 +30,6 @@
 #include "fabsynth/filigree/reconstruct.hpp"
 #include "fabsynth/filigree/structure.hpp"
 #include "fabsynth/filigree/reinforcement.hpp"
+#include "fabsynth/filigree/appearance.hpp"
 #include "fabsynth/filigree/pipeline.hpp"
 #include "fabsynth/filigree/surface/pipeline.hpp"

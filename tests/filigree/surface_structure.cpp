@@ -180,6 +180,11 @@ TEST_CASE("surface filigree on a cylinder: M_b one piece, watertight solid, shel
     surface_filigree_options opt;
     opt.synthesis.max_rounds = 1;
     opt.synthesis.seed = 4;
+    // The layout this oracle was set up on (eq. 2 alone, moves within 30% overlap): ccx expands S3
+    // into wedges along averaged normals, which the slivers of other layouts can invert (nonpositive
+    // jacobian); what is compared here is the shell model, not the layout.
+    opt.synthesis.crossing_penalty = 0;
+    opt.synthesis.move_overlap_limit = 0.3;
     opt.up = {0, 0, 1};
     opt.reinforcement.thickness = 0.6;
     opt.previews = false;

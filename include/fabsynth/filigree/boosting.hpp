@@ -99,7 +99,7 @@ namespace detail::boosting {
 [[nodiscard]] inline double candidate_energy(const pattern_state& s, const placed& g, std::span<const std::uint32_t> nbrs, std::size_t old_count) {
     if (nbrs.empty()) return std::numeric_limits<double>::infinity();
     double sum = 0;
-    for (const std::uint32_t j : nbrs) sum += pair_distance(g, s.geometry()[j]);
+    for (const std::uint32_t j : nbrs) sum += s.pair_energy(g, s.geometry()[j]);
     return sum / static_cast<double>(nbrs.size()) * static_cast<double>(std::max(old_count, nbrs.size())) + s.theta(g);
 }
 
@@ -137,7 +137,7 @@ struct boost_move {
     const instance& cur = s.instances()[i];
     boost_move r{cur, false, false, 0};
     double worst = 0;
-    for (const std::uint32_t j : nbrs) worst = std::max(worst, pair_distance(s.geometry()[i], s.geometry()[j]));
+    for (const std::uint32_t j : nbrs) worst = std::max(worst, s.pair_energy(s.geometry()[i], s.geometry()[j]));
     if (worst <= good_enough) return r;  // every pair of i is as good as the pairs of D'
     double best = std::numeric_limits<double>::infinity();
     std::vector<vec2> cands;

@@ -13,7 +13,10 @@
 /// classes the smaller element (bounding-box diagonal) goes first, as the paper gives larger
 /// elements lower priority. A weight of 0 removes a class (the paper's infinite size factor).
 /// Overlaps with an element of the same class count `same_class_penalty` times in (1) and (2), so
-/// same-class pile-ups are rejected more often (§7.3).
+/// same-class pile-ups are rejected more often (§7.3). The penalty exists to keep the classes of a
+/// mix apart: with a single class of positive weight every overlap is same-class and the penalty
+/// would only turn the printed 60/30% rules into 40/20%, so it applies only where the mix has two
+/// or more classes (effective_same_class_penalty).
 ///
 /// Domain (§7.2): a candidate's reference point must lie in the domain and the part of S inside the
 /// domain not yet covered must be at least `min_new_inside` of area(S); the first element is put at
@@ -75,6 +78,14 @@ struct initialization_options {
 /// it). For refusing oversized work before any is done.
 [[nodiscard]] inline double estimated_instances(double area, double smallest_cover, const initialization_options& opt = {}) {
     return area / ((1.0 - opt.max_union_overlap) * smallest_cover);
+}
+
+/// The same-class factor that applies to a mix: `penalty` when two or more classes have a positive
+/// weight, 1 for a single class (see the file comment).
+[[nodiscard]] inline double effective_same_class_penalty(std::span<const double> weights, double penalty) {
+    std::size_t used = 0;
+    for (const double w : weights) used += w > 0;
+    return used >= 2 ? penalty : 1.0;
 }
 
 /// What initialization produced.
@@ -245,6 +256,8 @@ template <control_field F>
     namespace di = detail::init;
     di::class_picker picker(classes, weights);
     if (!(opt.same_class_penalty >= 1)) throw invalid_input("initialization: same_class_penalty must be >= 1");
+    initialization_options rules = opt;
+    rules.same_class_penalty = effective_same_class_penalty(weights, opt.same_class_penalty);
 
     {  // an element whose covering region exceeds the domain cannot be distributed over it
         const double s0 = field(di::central_point(domain)).scale;
@@ -279,7 +292,7 @@ template <control_field F>
 
     auto accept = [&](const instance& cand, std::span<const instance>) {
         placed pc = place(classes[cand.cls], cand);
-        if (!di::admissible(pc, cand.cls, geo, geo_cls, &domain.region, opt)) {
+        if (!di::admissible(pc, cand.cls, geo, geo_cls, &domain.region, rules)) {
             hosts.failed();
             return false;
         }

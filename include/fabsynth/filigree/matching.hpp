@@ -106,6 +106,39 @@ inline constexpr std::size_t tree_threshold = 48;  // below this many points a s
                    V.empty() ? std::span<const vec2>(b.vertices) : std::span<const vec2>(V));
 }
 
+/// Transversal crossings of the skeletons of two placed instances: pairs of skeleton edges, one of
+/// each, that cross at an angle whose cosine is below `cos_min` (edges crossing at a smaller angle
+/// are a near-tangent contact, collinear ones a matched overlap). Only edges reaching into the
+/// intersection of the two covering boxes can cross (each skeleton lies in its covering region).
+/// 0 when either has no edges attached.
+[[nodiscard]] inline std::size_t transversal_crossings(const placed& a, const placed& b, double cos_min) {
+    if (!a.edges || !b.edges || !boxes_meet(a, b)) return 0;
+    const box2 common(glm::max(a.box.lo, b.box.lo), glm::min(a.box.hi, b.box.hi));
+    auto inside = [&](const placed& p, const skeleton_edge& e) {
+        const vec2 u = p.vertices[e[0]], v = p.vertices[e[1]];
+        return std::max(u.x, v.x) >= common.lo.x && std::min(u.x, v.x) <= common.hi.x && std::max(u.y, v.y) >= common.lo.y &&
+               std::min(u.y, v.y) <= common.hi.y;
+    };
+    std::vector<skeleton_edge> eb;
+    for (const skeleton_edge& e : *b.edges)
+        if (inside(b, e)) eb.push_back(e);
+    std::size_t n = 0;
+    for (const skeleton_edge& e : *a.edges) {
+        if (!inside(a, e)) continue;
+        const vec2 p0 = a.vertices[e[0]], p1 = a.vertices[e[1]];
+        const vec2 dp = p1 - p0;
+        const double lp = glm::length(dp);
+        for (const skeleton_edge& f : eb) {
+            const vec2 q0 = b.vertices[f[0]], q1 = b.vertices[f[1]];
+            if (!fabsynth::detail::segments_intersect(p0, p1, q0, q1)) continue;
+            const vec2 dq = q1 - q0;
+            const double lq = glm::length(dq);
+            if (lp > 0 && lq > 0 && std::abs(glm::dot(dp, dq)) < cos_min * lp * lq) ++n;
+        }
+    }
+    return n;
+}
+
 /// True if the covering regions of a and b share a skeleton vertex of either (the connectivity
 /// relation of the pattern graph: pair_distance is finite).
 [[nodiscard]] inline bool overlapping(const placed& a, const placed& b) {

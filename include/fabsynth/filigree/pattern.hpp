@@ -56,6 +56,7 @@ template <control_field F>
 /// World geometry of an instance.
 struct placed {
     std::vector<vec2> vertices;   ///< skeleton vertices (mm)
+    const std::vector<skeleton_edge>* edges = nullptr;  ///< the element's skeleton edges (indices into vertices); the element outlives this
     std::vector<ring2> covering;  ///< convex covering parts (mm)
     std::vector<box2> part_boxes; ///< one per covering part
     box2 box;                     ///< bounds of the covering region
@@ -81,6 +82,7 @@ struct placed {
 /// The world geometry of `in` (an instance of `e`).
 [[nodiscard]] inline placed place(const element& e, const instance& in) {
     placed p;
+    p.edges = &e.edges;
     p.vertices.reserve(in.shape.size());
     for (const vec2& v : in.shape) p.vertices.push_back(to_world(in, v));
     for (const ring2& r : e.covering) {

@@ -53,6 +53,7 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/image.hpp"
 #include "fabsynth/core/progress.hpp"
+#include "fabsynth/filigree/appearance.hpp"
 #include "fabsynth/filigree/reconstruct.hpp"
 #include "fabsynth/filigree/reinforcement.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
@@ -89,6 +90,7 @@ struct planar_filigree {
     image8 preview;                      ///< grey levels, 1600 px along the view's longer side
     image8 steps;                        ///< Fig. 8: after initialization, the first placement, the rounds, the topology cut, side by side
     std::vector<std::size_t> instances_per_class;  ///< of the final layout (reinforcement.instances), per class
+    appearance_report appearance;        ///< crossings, overlap and free ends of the final skeletons inside the domain (appearance.hpp)
     filigree_timings seconds;
     /// The printable piece: polygons with holes (mm, the domain's frame).
     [[nodiscard]] const std::vector<polygon_with_holes>& outline() const noexcept { return reinforcement.outline; }
@@ -164,6 +166,8 @@ template <control_field F, progress_callback P = no_progress>
 
     r.instances_per_class.assign(classes.size(), 0);
     for (const instance& in : r.reinforcement.instances) ++r.instances_per_class[in.cls];
+    r.appearance = measure_appearance(std::span<const graph::skeleton_graph<vec2>>(r.reinforcement.skeletons),
+                                      [&](vec2 p) { return domain.contains(p); });
     r.seconds.total = dp::since(t_start);
     report_progress(progress, 1.0, "done");
     return r;

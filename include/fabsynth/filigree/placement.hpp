@@ -143,10 +143,13 @@ public:
     /// initialization set up (§4.1 rule (2)): its covering region overlaps no neighbour j by more
     /// than max_pair_overlap of its own covering area (divided by same_class_penalty when j is of
     /// its class), unless the overlap with j was already larger where i is now, in which case it
-    /// may not grow. Without this the matching energy, which is nearly flat in the overlap depth
-    /// for dense elements (a spiral pair scores 0.6-0.8 mm from 1 mm to 15 mm apart), lets the
-    /// search stack elements three deep; the paper's Θ term (eq. 3) is where such constraints go.
+    /// may not grow. A limit of 1 (the default) is no limit: complete overlaps are allowed and
+    /// merged (§3.5). With eq. 2 alone a limit was needed, since the matching energy, nearly flat
+    /// in the overlap depth for dense elements (a spiral pair scores 0.6-0.8 mm from 1 mm to 15 mm
+    /// apart), let the search stack elements three deep; the crossing term of pair_energy now
+    /// does that job (synthesis_options::move_overlap_limit has the measurements).
     [[nodiscard]] bool spacing_kept(std::size_t i, const instance& in, const placed& g, std::span<const std::uint32_t> now) const {
+        if (max_pair_overlap_ >= 1) return true;
         const double own = classes_[in.cls].covering_area * in.scale * in.scale;
         for (const std::uint32_t j : now) {
             if (!g.box.intersects(geo_[j].box)) continue;
@@ -161,20 +164,46 @@ public:
     /// Theta of one placed instance (boundary term times gamma_boundary).
     [[nodiscard]] double theta(const placed& g) const { return gamma_boundary_ > 0 ? gamma_boundary_ * boundary_term(g, boundary_, band_) : 0.0; }
 
-    /// Local energy of instance geometry g against the instances `nbrs` (eq. 2 summed, + Theta).
+    /// The crossing term of Theta (see pair_energy): mm added per transversal crossing of two
+    /// connected skeletons (0: none), and the smallest angle (degrees) that counts as a crossing.
+    static void check_crossing_penalty(double mm_per_crossing, double min_angle_deg) {
+        if (!(mm_per_crossing >= 0 && std::isfinite(mm_per_crossing)) || !(min_angle_deg >= 0 && min_angle_deg <= 90))
+            throw invalid_input("pattern crossing penalty: mm per crossing must be finite and >= 0, the angle in [0, 90] degrees");
+    }
+    void set_crossing_penalty(double mm_per_crossing, double min_angle_deg = 30.0) {
+        check_crossing_penalty(mm_per_crossing, min_angle_deg);
+        crossing_penalty_ = mm_per_crossing, crossing_cos_ = std::cos(min_angle_deg * std::numbers::pi / 180.0);
+    }
+    [[nodiscard]] double crossing_penalty() const noexcept { return crossing_penalty_; }
+    [[nodiscard]] double crossing_min_angle_deg() const noexcept { return std::acos(crossing_cos_) * 180.0 / std::numbers::pi; }
+
+    /// Energy of one connected pair: eq. 2 plus crossing_penalty per transversal crossing of their
+    /// skeletons (matching.hpp, transversal_crossings). The crossing term is part of the paper's
+    /// optional Theta (eq. 3): eq. 2 alone scores a pair by the mean distance between their
+    /// vertices in the overlap, which for dense elements barely changes with the depth of the
+    /// overlap (a spiral pair scores 0.6-0.8 mm from 1 mm to 15 mm apart), so a layout of strips
+    /// cutting across each other scores as well as one of tangent contacts, where §3.4 asks for
+    /// the latter. +inf for a pair whose skeletons do not reach into each other's covering region.
+    [[nodiscard]] double pair_energy(const placed& a, const placed& b) const {
+        const double d = pair_distance(a, b);
+        if (crossing_penalty_ <= 0 || !std::isfinite(d)) return d;
+        return d + crossing_penalty_ * static_cast<double>(transversal_crossings(a, b, crossing_cos_));
+    }
+
+    /// Local energy of instance geometry g against the instances `nbrs` (pair_energy summed, + Theta).
     [[nodiscard]] double local_energy(const placed& g, std::span<const std::uint32_t> nbrs) const {
         double e = theta(g);
-        for (const std::uint32_t j : nbrs) e += pair_distance(g, geo_[j]);
+        for (const std::uint32_t j : nbrs) e += pair_energy(g, geo_[j]);
         return e;
     }
-    /// PME of eq. 3: the sum of eq. 2 over connected pairs plus Theta.
+    /// PME of eq. 3: pair_energy over connected pairs plus the boundary Theta.
     [[nodiscard]] double pattern_energy() const {
         const auto adj = connectivity();
         double e = 0;
         for (std::size_t i = 0; i < geo_.size(); ++i) {
             e += theta(geo_[i]);
             for (const std::uint32_t j : adj[i])
-                if (j > i) e += pair_distance(geo_[i], geo_[j]);
+                if (j > i) e += pair_energy(geo_[i], geo_[j]);
         }
         return e;
     }
@@ -215,7 +244,8 @@ private:
     any_field field_;
     local_domain domain_;
     double gamma_boundary_;
-    double max_pair_overlap_ = 0.30, same_class_penalty_ = 1.5;  // initialization_options' defaults
+    double max_pair_overlap_ = 1.0, same_class_penalty_ = 1.5;  // no move limit (synthesis_options::move_overlap_limit)
+    double crossing_penalty_ = 0.0, crossing_cos_ = std::cos(std::numbers::pi / 6);
     double band_ = 0;
     std::vector<vec2> boundary_;
     std::vector<vec2> boundary_positions_;
@@ -291,7 +321,7 @@ struct move_result {
     counter_rng rng(seed, iteration, stream);
     auto record = [&](const instance& cand, const placed& g, std::span<const std::uint32_t> with) {
         for (const std::uint32_t j : with) {
-            const double q = pair_distance(g, s.geometry()[j]);
+            const double q = s.pair_energy(g, s.geometry()[j]);
             if (std::isfinite(q)) r.records.push_back({cand.cls, s.instances()[j].cls, to_local(cand, s.instances()[j].position), q});
         }
     };

@@ -72,6 +72,7 @@ struct structural_record {
 /// What reinforce produced in a planar domain.
 struct reinforcement_result : structural_record {
     std::vector<instance> instances;
+    std::vector<graph::skeleton_graph<vec2>> skeletons;  ///< of the final layout after its topology cut (world mm)
     std::vector<polygon_with_holes> outline;  ///< the printable piece (mm), one polygon with holes
     std::size_t components = 0;               ///< connected pieces of the final outline (1)
 };
@@ -177,6 +178,7 @@ template <control_field F>
     const auto t0 = std::chrono::steady_clock::now();
     reinforcement_result r;
     r.instances = syn.instances;
+    r.skeletons = syn.skeletons;
     r.thickness = opt.thickness;
     r.outline = dr::one_piece(syn.skeletons, domain, r.pieces_dropped, r.dropped_area_fraction);
     if (opt.enabled) {
@@ -188,12 +190,13 @@ template <control_field F>
         r.histogram_bin_mpa = sopt.histogram_bin_mpa;
         struct layout {
             std::vector<instance> instances;
+            std::vector<graph::skeleton_graph<vec2>> skeletons;
             std::vector<polygon_with_holes> outline;
             std::size_t dropped = 0;
             double dropped_fraction = 0;
             fem_triangulation tri;
         };
-        layout best{r.instances, r.outline, r.pieces_dropped, r.dropped_area_fraction,
+        layout best{r.instances, r.skeletons, r.outline, r.pieces_dropped, r.dropped_area_fraction,
                     make_fem_triangulation(coarsened_outline(r.outline, 0.25 * h), h)};
         const std::uint32_t cls = reinforcement_class(weights);
         reinforcement_loop(
@@ -213,6 +216,7 @@ template <control_field F>
                 next.outline = dr::one_piece(res.skeletons, domain, next.dropped, next.dropped_fraction);
                 next.tri = make_fem_triangulation(coarsened_outline(next.outline, 0.25 * h), h);
                 next.instances = std::move(res.instances);
+                next.skeletons = std::move(res.skeletons);
                 return next;
             },
             [&](const layout& l, double t, const progress_span& thicken_progress) {
@@ -221,7 +225,7 @@ template <control_field F>
                 return th;
             },
             progress);
-        r.instances = std::move(best.instances), r.outline = std::move(best.outline);
+        r.instances = std::move(best.instances), r.skeletons = std::move(best.skeletons), r.outline = std::move(best.outline);
         r.pieces_dropped = best.dropped, r.dropped_area_fraction = best.dropped_fraction;
     }
     r.components = r.outline.size();

@@ -208,6 +208,11 @@ public:
             throw invalid_input("pattern spacing: max_pair_overlap must be in (0, 1] and same_class_penalty >= 1");
         max_pair_overlap_ = max_pair_overlap, same_class_penalty_ = same_class_penalty;
     }
+    /// The crossing term of every picture (pattern_state::set_crossing_penalty).
+    void set_crossing_penalty(double mm_per_crossing, double min_angle_deg = 30.0) {
+        pattern_state::check_crossing_penalty(mm_per_crossing, min_angle_deg);
+        crossing_penalty_ = mm_per_crossing, crossing_angle_deg_ = min_angle_deg;
+    }
 
     /// Radius (mm) of instance i's picture.
     [[nodiscard]] double view_reach(std::size_t i) const {
@@ -260,6 +265,7 @@ public:
         }
         auto picture = std::make_shared<pattern_state>(classes_, std::move(inst), picture_field(v.patch_), picture_domain(v.patch_), gamma_boundary_);
         picture->set_spacing(max_pair_overlap_, same_class_penalty_);
+        picture->set_crossing_penalty(crossing_penalty_, crossing_angle_deg_);
         v.picture_ = std::move(picture);
         return v;
     }
@@ -322,7 +328,7 @@ public:
             const placed& gi = p.geometry()[v.index()];
             double e = p.theta(gi);
             for (std::size_t k = 0; k < p.size(); ++k)
-                if (v.global(k) > i && overlapping(gi, p.geometry()[k])) e += pair_distance(gi, p.geometry()[k]);
+                if (v.global(k) > i && overlapping(gi, p.geometry()[k])) e += p.pair_energy(gi, p.geometry()[k]);
             part[i] = e;
         });
         double e = 0;
@@ -431,7 +437,8 @@ private:
     surface_control field_;
     const surface_region* region_;
     double gamma_boundary_;
-    double max_pair_overlap_ = 0.30, same_class_penalty_ = 1.5;
+    double max_pair_overlap_ = 1.0, same_class_penalty_ = 1.5;
+    double crossing_penalty_ = 0.0, crossing_angle_deg_ = 30.0;
     double max_reach_ = 0;
     std::vector<surface_instance> instances_;
     std::vector<vec3> positions_;
@@ -494,6 +501,8 @@ namespace detail::surface {
     namespace di = detail::init;
     namespace ds = detail::surface;
     di::class_picker picker(classes, weights);
+    initialization_options rules = opt;  // the same-class factor only for a mix (initialization.hpp)
+    rules.same_class_penalty = effective_same_class_penalty(weights, opt.same_class_penalty);
     if (!(opt.same_class_penalty >= 1)) throw invalid_input("initialization: same_class_penalty must be >= 1");
     const surface_point centre = ds::central_point(region);
     {
@@ -550,7 +559,7 @@ namespace detail::surface {
             if (!own) geo.push_back(pic.geometry()[k]), cls_of.push_back(pic.instances()[k].cls);
         const auto region_here = s.region_near(v, pc.box);
         const auto at = own ? std::optional<surface_point>(c.at) : v.patch().locate(c.position);
-        if (!at || !di::admissible(pc, c.cls, geo, cls_of, region_here ? &*region_here : nullptr, opt)) {
+        if (!at || !di::admissible(pc, c.cls, geo, cls_of, region_here ? &*region_here : nullptr, rules)) {
             if (own) s.pop_back();
             hosts.failed();
             return false;
