@@ -82,6 +82,13 @@ struct surface_request {
     double mesh_size = 0;  // 0: the mesh is in mm as it is
 };
 
+// Points as [[x, y], ...] (mm).
+nlohmann::ordered_json points_json(const std::vector<vec2>& points) {
+    auto a = nlohmann::ordered_json::array();
+    for (const vec2& p : points) a.push_back({p.x, p.y});
+    return a;
+}
+
 // The report fields of the synthesis rounds, common to both forms (synthesis_result and
 // surface_synthesis_result have them under the same names).
 template <class R>
@@ -271,7 +278,7 @@ int main(int argc, char** argv) {
     double scale = 0, width = 0, rotation_deg = 0, thickness = 1.0, sigma_d = 0.15, sigma_f = 0.05, tolerance = 0.05;
     double pressure = 1000.0;
     filigree_options defaults;
-    double crossing_penalty = defaults.synthesis.crossing_penalty;
+    double crossing_penalty = defaults.synthesis.crossing_penalty, max_bridge = defaults.reinforcement.max_bridge_mm;
     int rounds = 6;
     double max_elements = 5000;
     bool no_structure = false;
@@ -298,6 +305,9 @@ int main(int argc, char** argv) {
     app.add_option("--crossing-penalty", crossing_penalty,
                    "mm added to a pair's matching energy per strip crossing of its two elements (0: the paper's eq. 2 alone)")
         ->capture_default_str();
+    app.add_option("--max-bridge", max_bridge,
+                   "longest straight strip joining a piece cut off by the domain to the rest, mm (0: 4 x the strip width; -1: none)")
+        ->capture_default_str();
     app.add_option("--tolerance", tolerance, "polygonal approximation of the element skeletons, mm")->capture_default_str();
     app.add_option("--max-elements", max_elements, "refuse domains estimated to need more element instances than this")->capture_default_str();
     app.add_option("-o,--output", out_path, "output SVG; OUT.stl, OUT.png, OUT_steps.png and OUT.json are written beside it")->required();
@@ -321,8 +331,10 @@ int main(int argc, char** argv) {
         const auto t_start = std::chrono::steady_clock::now();
         filigree_options opt;  // as the library's defaults, set from the options above
         tool::require_range(crossing_penalty, 0.0, 1e3, "--crossing-penalty", "mm");
+        if (max_bridge != -1) tool::require_range(max_bridge, 0.0, 1e3, "--max-bridge", "mm (or -1: no bridges)");
         opt.synthesis.seed = seed, opt.synthesis.sigma_d = sigma_d, opt.synthesis.sigma_f = sigma_f, opt.synthesis.max_rounds = rounds;
         opt.synthesis.crossing_penalty = crossing_penalty;
+        opt.reinforcement.max_bridge_mm = max_bridge;
         opt.reinforcement.thickness = thickness, opt.reinforcement.pressure_pa = pressure, opt.reinforcement.enabled = !no_structure;
         if (!on_mesh.mesh.empty()) {
             opt.reinforcement.material = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
@@ -395,11 +407,14 @@ int main(int argc, char** argv) {
                               {"cuts_refused_for_connectivity", syn.cut.cuts_refused_for_connectivity}}},
             {"connected_components", rf.components},
             {"pieces_dropped", rf.pieces_dropped},
+            {"pieces_trimmed", rf.pieces_trimmed},
+            {"pieces_bridged", rf.pieces_bridged},
             {"pieces_dropped_area_fraction", rf.dropped_area_fraction},
             {"appearance", {{"transversal_crossings", f.appearance.transversal_crossings},
                             {"crossings_per_instance", f.appearance.crossings_per_instance},
                             {"overlap_area_fraction", f.appearance.overlap_area_fraction},
-                            {"free_ends", f.appearance.free_ends}}},
+                            {"free_ends", f.appearance.free_ends},
+                            {"crossing_points_mm", points_json(f.appearance.crossing_points)}}},
             {"structure", structure_fields(rf, material, pressure, nullptr)},
             {"thickness_mm", rf.thickness},
             {"stl_triangles", f.mesh.faces.size()},

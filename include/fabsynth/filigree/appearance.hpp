@@ -54,6 +54,7 @@ struct appearance_report {
     double crossings_per_instance = 0.0;    ///< transversal_crossings / instances (0 without instances)
     double overlap_area_fraction = 0.0;     ///< area under >= 2 instances / area under >= 1, in [0, 1]
     std::size_t free_ends = 0;
+    std::vector<vec2> crossing_points;      ///< where the transversal crossings are (mm), in instance-pair order
 };
 
 namespace detail::appearance {
@@ -146,6 +147,7 @@ template <class Inside>
                 counted.push_back(h.point);
             }
             r.transversal_crossings += counted.size();
+            r.crossing_points.insert(r.crossing_points.end(), counted.begin(), counted.end());
         }
     }
     r.crossings_per_instance = static_cast<double>(r.transversal_crossings) / static_cast<double>(r.instances);

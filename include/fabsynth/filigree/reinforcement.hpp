@@ -16,11 +16,14 @@
 /// One piece: the strips are united and opened (shrunk, then grown, by a tenth of the narrowest
 /// strip width), so that parts touching at a single point, which would print as a hinge, count as
 /// separate; when clipping to the domain leaves more than one connected piece (element ends cut off
-/// by the boundary; the topology cut never disconnects), the largest (by area) is kept and the
-/// others are counted in `pieces_dropped`, their share of the strip area in
-/// `dropped_area_fraction` (they could not be printed attached to the rest).
+/// by the boundary; the topology cut never disconnects), each other piece within `max_bridge_mm`
+/// of the largest is joined to it by a straight strip of the narrowest width along their nearest
+/// contact (`pieces_bridged`); the rest are removed, as `pieces_trimmed` when smaller than a square
+/// of twice the strip width (no printable strip) and `pieces_dropped` otherwise, their share of
+/// the strip area in `dropped_area_fraction`.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -32,6 +35,7 @@
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/progress.hpp"
 #include "fabsynth/geometry/clip.hpp"
+#include "fabsynth/filigree/matching.hpp"
 #include "fabsynth/filigree/reconstruct.hpp"
 #include "fabsynth/filigree/structure.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
@@ -47,6 +51,9 @@ struct reinforcement_options {
     int max_insertion_rounds = 3;
     int resynthesis_rounds = 2;          ///< rounds of placement + boosting after an insertion
     double mesh_edge = 0.0;              ///< FEM mesh edge length, mm; 0 = 0.6 x the median strip width
+    /// Longest bridge strip joining a cut-off piece to the rest (mm); 0 = 4 x the narrowest strip
+    /// width; < 0: no bridges (pieces are dropped or trimmed).
+    double max_bridge_mm = 0.0;
     // The re-syntheses of phase 1 take their seeds from the synthesis options' (seed + 1000 x round).
 };
 
@@ -54,7 +61,9 @@ struct reinforcement_options {
 /// the piece's bookkeeping, the analyses before and after, and what each phase did.
 struct structural_record {
     std::size_t pieces_dropped = 0;           ///< pieces removed because they were not attached to the largest
-    double dropped_area_fraction = 0;         ///< their area / the area of all pieces
+    std::size_t pieces_bridged = 0;           ///< pieces joined to it by a bridge strip (planar form)
+    std::size_t pieces_trimmed = 0;           ///< pieces removed as shorter than a printable strip (planar form)
+    double dropped_area_fraction = 0;         ///< area removed (dropped and trimmed) / the area of all pieces
     double thickness = 0;                     ///< final, mm
     bool analysed = false;
     std::vector<std::size_t> histogram_before, histogram_after;  ///< node counts per 5 MPa bin (Fig. 21)
@@ -134,11 +143,43 @@ void reinforcement_loop(Layout& layout, structural_record& r, const reinforcemen
 
 namespace detail::reinforce {
 
+// What one_piece did with the pieces that are not the largest.
+struct piece_bookkeeping {
+    std::size_t dropped = 0, bridged = 0, trimmed = 0;
+    double dropped_fraction = 0;  // area removed (dropped and trimmed) / area of all pieces
+};
+
+// The nearest pair of boundary vertices (piece vertex, main vertex) of `piece` to the polygons
+// whose vertices are in `tree` (over `cloud`); returns the distance.
+inline double nearest_contact(const polygon_with_holes& piece, const detail::matching::kd_tree& tree, std::span<const vec2> cloud, vec2& from,
+                              vec2& to) {
+    double best = std::numeric_limits<double>::infinity();
+    auto visit = [&](const ring2& r) {
+        for (const vec2& p : r) {
+            std::size_t idx = 0;
+            double d2 = 0;
+            nanoflann::KNNResultSet<double, std::size_t> rs(1);
+            rs.init(&idx, &d2);
+            const double q[2] = {p.x, p.y};
+            tree.findNeighbors(rs, q, nanoflann::SearchParams());
+            const double d = glm::distance(p, cloud[idx]);
+            if (d < best) best = d, from = p, to = cloud[idx];
+        }
+    };
+    visit(piece.outer);
+    for (const ring2& h : piece.holes) visit(h);
+    return best;
+}
+
 // The united strips clipped to the domain and opened by a fifth of the narrowest strip width (so
-// that pieces touching at a point, which would print as a hinge, count as separate); the largest
-// piece, others counted.
-inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skeleton_graph<vec2>>& sk, const planar_domain& d, std::size_t& dropped,
-                                                 double& dropped_fraction) {
+// that pieces touching at a point, which would print as a hinge, count as separate). Pieces other
+// than the largest (element ends cut off by the domain's boundary, the topology cut never
+// disconnects) are joined to it by a straight strip of the narrowest width along their nearest
+// contact when that is at most `max_bridge` mm long and lies in the domain (up to 4 passes, so a
+// piece may join through another); what is left is trimmed (a piece of less area than a square of
+// twice the width: shorter than a printable strip) or dropped, and counted.
+inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skeleton_graph<vec2>>& sk, const planar_domain& d, double max_bridge,
+                                                 piece_bookkeeping& book) {
     double w = std::numeric_limits<double>::infinity();
     for (const auto& g : sk)
         for (graph::vertex_id v = 0; v < g.num_vertices(); ++v)
@@ -149,13 +190,67 @@ inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skelet
     all = polygon_offset(polygon_offset(all, -eps, 0.1 * eps), eps, 0.1 * eps);
     if (all.empty()) throw solver_error("filigree: the strips are empty");
     all = bridge_pinches(std::move(all), 1e-3 * w, 0.1 * w);  // tangencies the opening leaves
-    std::size_t best = 0;
-    for (std::size_t i = 1; i < all.size(); ++i)
-        if (area(all[i]) > area(all[best])) best = i;
-    dropped = all.size() - 1;
     const double total = area(all);
-    dropped_fraction = total > 0 ? (total - area(all[best])) / total : 0.0;
-    return {all[best]};
+    auto largest = [](const std::vector<polygon_with_holes>& p) {
+        std::size_t best = 0;
+        for (std::size_t i = 1; i < p.size(); ++i)
+            if (area(p[i]) > area(p[best])) best = i;
+        return best;
+    };
+    book = {};
+    const std::size_t pieces_before = all.size();
+    for (int pass = 0; pass < 4 && all.size() > 1 && max_bridge > 0; ++pass) {
+        const std::size_t m = largest(all);
+        // The largest piece's boundary, sampled at most half a strip width apart (a straight strip's
+        // side has vertices only at its ends), so the nearest sample is within w / 4 of the nearest point.
+        std::vector<vec2> cloud;
+        auto sample = [&](const ring2& r) {
+            for (std::size_t k = 0; k < r.size(); ++k) {
+                const vec2 a = r[k], b = r[(k + 1) % r.size()];
+                const int n = std::max(1, static_cast<int>(std::ceil(glm::distance(a, b) / (0.5 * w))));
+                for (int j = 0; j < n; ++j) cloud.push_back(a + (b - a) * (static_cast<double>(j) / n));
+            }
+        };
+        sample(all[m].outer);
+        for (const ring2& h : all[m].holes) sample(h);
+        const detail::matching::point_cloud pc{cloud};
+        detail::matching::kd_tree tree(2, pc, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+        tree.buildIndex();
+        std::vector<std::vector<vec2>> bridges;
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            if (i == m) continue;
+            vec2 a, b;
+            if (nearest_contact(all[i], tree, cloud, a, b) > max_bridge) continue;
+            // the bridge must stay in the domain (a concave boundary or a hole may lie between)
+            bool inside = true;
+            for (int k = 0; k <= 8 && inside; ++k) inside = d.contains(a + (b - a) * (k / 8.0));
+            if (inside) bridges.push_back({a, b});
+        }
+        if (bridges.empty()) break;
+        std::vector<polygon_with_holes> joined = stroke_outline(bridges, 0.5 * w);
+        joined = polygon_intersection(joined, d.region);
+        joined.insert(joined.end(), all.begin(), all.end());
+        all = polygon_union(joined, {});
+    }
+    const std::size_t m = largest(all);
+    book.bridged = pieces_before - all.size();  // each joined piece removes one
+    double removed = 0;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (i == m) continue;
+        const double a = area(all[i]);
+        removed += a;
+        (a < 4 * w * w ? book.trimmed : book.dropped) += 1;
+    }
+    book.dropped_fraction = total > 0 ? removed / total : 0.0;
+    return {all[m]};
+}
+
+[[nodiscard]] inline double narrowest_width(std::span<const element> classes) {
+    double w = std::numeric_limits<double>::infinity();
+    for (const element& e : classes)
+        for (const double x : e.widths)
+            if (x > 0) w = std::min(w, x);
+    return std::isfinite(w) ? w : 0.0;
 }
 
 [[nodiscard]] inline double median_width(std::span<const element> classes) {
@@ -180,7 +275,13 @@ template <control_field F>
     r.instances = syn.instances;
     r.skeletons = syn.skeletons;
     r.thickness = opt.thickness;
-    r.outline = dr::one_piece(syn.skeletons, domain, r.pieces_dropped, r.dropped_area_fraction);
+    const double max_bridge = opt.max_bridge_mm < 0 ? 0.0 : opt.max_bridge_mm > 0 ? opt.max_bridge_mm : 4 * dr::narrowest_width(classes);
+    dr::piece_bookkeeping book;
+    r.outline = dr::one_piece(syn.skeletons, domain, max_bridge, book);
+    auto keep_book = [&](const dr::piece_bookkeeping& b) {
+        r.pieces_dropped = b.dropped, r.pieces_bridged = b.bridged, r.pieces_trimmed = b.trimmed, r.dropped_area_fraction = b.dropped_fraction;
+    };
+    keep_book(book);
     if (opt.enabled) {
         const double h = opt.mesh_edge > 0 ? opt.mesh_edge : 0.6 * dr::median_width(classes);
         structure_options sopt;
@@ -192,11 +293,10 @@ template <control_field F>
             std::vector<instance> instances;
             std::vector<graph::skeleton_graph<vec2>> skeletons;
             std::vector<polygon_with_holes> outline;
-            std::size_t dropped = 0;
-            double dropped_fraction = 0;
+            dr::piece_bookkeeping book;
             fem_triangulation tri;
         };
-        layout best{r.instances, r.skeletons, r.outline, r.pieces_dropped, r.dropped_area_fraction,
+        layout best{r.instances, r.skeletons, r.outline, book,
                     make_fem_triangulation(coarsened_outline(r.outline, 0.25 * h), h)};
         const std::uint32_t cls = reinforcement_class(weights);
         reinforcement_loop(
@@ -213,7 +313,7 @@ template <control_field F>
                 synthesis_result res;
                 optimize_pattern(s, again, res, grow_progress);
                 layout next;
-                next.outline = dr::one_piece(res.skeletons, domain, next.dropped, next.dropped_fraction);
+                next.outline = dr::one_piece(res.skeletons, domain, max_bridge, next.book);
                 next.tri = make_fem_triangulation(coarsened_outline(next.outline, 0.25 * h), h);
                 next.instances = std::move(res.instances);
                 next.skeletons = std::move(res.skeletons);
@@ -226,7 +326,7 @@ template <control_field F>
             },
             progress);
         r.instances = std::move(best.instances), r.skeletons = std::move(best.skeletons), r.outline = std::move(best.outline);
-        r.pieces_dropped = best.dropped, r.dropped_area_fraction = best.dropped_fraction;
+        keep_book(best.book);
     }
     r.components = r.outline.size();
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

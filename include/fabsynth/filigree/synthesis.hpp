@@ -52,8 +52,9 @@ struct synthesis_options {
     /// paper's eq. 2 alone. Calibrated on the eight 2D cases of examples/filigree/main_job.sh
     /// (transversal crossings per instance of the result, appearance.hpp, mean over the cases;
     /// benchmarks/README.md): with the former 0.3 move limit and the same-class factor in
-    /// single-class runs, 0 -> 1.80, 1 -> 1.12, 5 -> 0.92; as now (no move limit, the factor only
-    /// in mixes), 5 -> 0.84.
+    /// single-class runs, 0 -> 1.80, 1 -> 1.12, 5 -> 0.92; with no move limit and the factor only
+    /// in mixes, 5 -> 0.84 (all with the topology cut's former closeness of 4 strip widths; with
+    /// 16, as now, 0.44).
     double crossing_penalty = 5.0;
     double crossing_angle_deg = 30.0;
     /// Most a move of placement or boosting may make an instance's covering region overlap one
