@@ -2,10 +2,10 @@
 // Digital Fabrication"), from SVG elements to one connected, printable piece.
 //
 //   filigree --element E.svg [--element E2.svg[:WEIGHT] ...] (--rect W H | --domain D.svg)
-//            --scale MM --width MM [--rotation DEG | --field-image F.png --field-scale S0 S1]
+//            --scale MM [--width MM] [--rotation DEG | --field-image F.png --field-scale S0 S1]
 //            [--thickness MM] [--material abs|pla] [--no-structure] [--seed S] -o OUT.svg
 //   filigree --element E.svg ... --mesh M.obj [--mesh-size MM] [--region FACES.txt | --region-curve C.csv] [--up X Y Z]
-//            [--field-scale-file F.txt] --scale MM --width MM [--thickness MM] [--seed S] -o OUT.stl
+//            [--field-scale-file F.txt] --scale MM [--width MM] [--thickness MM] [--seed S] -o OUT.stl
 //            (on a base surface: OUT.stl printable solid, OUT.obj baked M_b, OUT.png, OUT.json)
 //
 // The tool reads the inputs, makes one library call (make_filigree in
@@ -89,6 +89,16 @@ nlohmann::ordered_json points_json(const std::vector<vec2>& points) {
     return a;
 }
 
+// One object per round of placement and boosting (Fig. 22 and the counts behind it).
+nlohmann::ordered_json rounds_json(const std::vector<round_record>& rounds) {
+    auto a = nlohmann::ordered_json::array();
+    for (const round_record& r : rounds)
+        a.push_back({{"instances", r.instances}, {"pme_per_instance", r.pme_per_instance}, {"translation_mm", r.translation_mm},
+                     {"smooth_connections", r.smooth_connections}, {"boosted_moves", r.boosted}, {"boosting_reconnections", r.reconnected},
+                     {"duplicates_removed", r.duplicates_removed}});
+    return a;
+}
+
 // The report fields of the synthesis rounds, common to both forms (synthesis_result and
 // surface_synthesis_result have them under the same names).
 template <class R>
@@ -99,7 +109,8 @@ nlohmann::ordered_json layout_fields(const R& syn) {
             {"smooth_connections", syn.smooth_connections},
             {"boosted_moves", syn.boosted},
             {"boosting_reconnections", syn.reconnected},
-            {"duplicates_removed", syn.duplicates_removed}};
+            {"duplicates_removed", syn.duplicates_removed},
+            {"per_round", rounds_json(syn.per_round)}};
 }
 
 // The §5 record of both forms (reinforcement_result and surface_reinforcement_result share these
@@ -129,7 +140,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) { return std::chro
 // The ranges both forms check (scale, width, thickness, tolerance, sigma_d, sigma_f, rounds).
 void check_common_ranges(double scale, double width, double thickness, double tolerance, double sigma_d, double sigma_f, int rounds) {
     tool::require_range(scale, 0.1, 1e4, "--scale", "mm");
-    tool::require_range(width, 1e-3, scale, "--width", "mm (at most --scale)");
+    if (width != 0) tool::require_range(width, 1e-3, scale, "--width", "mm (at most --scale; or 0: the SVG's own stroke widths)");
     tool::require_range(thickness, 1e-3, 1e3, "--thickness", "mm");
     tool::require_range(tolerance, 1e-4, scale, "--tolerance", "mm");
     tool::require_range(sigma_d, 1e-3, 1.0, "--sigma-d", "");
@@ -137,7 +148,8 @@ void check_common_ranges(double scale, double width, double thickness, double to
     if (rounds < 1 || rounds > 100) throw invalid_input("--rounds must be in [1, 100]");
 }
 
-// The element classes of --element arguments (scaled to `scale` mm, strips `width` mm wide).
+// The element classes of --element arguments (scaled to `scale` mm, strips `width` mm wide; 0: the
+// SVG's stroke widths, or a filled shape's local width, scaled with the element).
 void load_classes(const std::vector<element_arg>& elements, double scale, double width, double tolerance, std::vector<element>& classes,
                   std::vector<double>& weights) {
     for (const auto& a : elements) {
@@ -288,7 +300,7 @@ int main(int argc, char** argv) {
     auto* o_domain = app.add_option("--domain", domain_path, "domain SVG: its filled shapes (with holes), user units = mm")->check(CLI::ExistingFile);
     o_rect->excludes(o_domain);
     app.add_option("--scale", scale, "element size (bounding-box diagonal of its skeleton), mm")->required();
-    app.add_option("--width", width, "strip width, mm")->required();
+    app.add_option("--width", width, "strip width, mm; default: each stroke's own width in the SVG, scaled with the element as --scale scales it");
     auto* o_rot = app.add_option("--rotation", rotation_deg, "constant element rotation, degrees (counter-clockwise, y up)");
     auto* o_fimg = app.add_option("--field-image", field_image, "grayscale PNG over the domain's bounding box: element scale from black to white")
                        ->check(CLI::ExistingFile);
@@ -425,7 +437,8 @@ int main(int argc, char** argv) {
         report.update(layout_fields(syn));
         for (std::size_t c = 0; c < classes.size(); ++c)
             report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"instances", f.instances_per_class[c]},
-                                          {"skeleton_vertices", classes[c].vertices.size()}, {"size_mm", classes[c].size}});
+                                          {"skeleton_vertices", classes[c].vertices.size()}, {"size_mm", classes[c].size},
+                                          {"median_strip_width_mm", classes[c].median_width()}});
 
         progress(0.95, "write");
         io::write_svg(svg_file, io::document_of(f.outline(), f.view));

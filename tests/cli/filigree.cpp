@@ -160,6 +160,27 @@ TEST_CASE("filigree: one connected piece (independent raster count), watertight 
     CHECK(outputs[0] == outputs[1]);
 }
 
+TEST_CASE("filigree: without --width the strips take the SVG's stroke width, scaled with the element", "[cli][filigree]") {
+    // An L of 60 + 80 user units (bounding-box diagonal 100) stroked 5 units wide: at --scale 20 the
+    // drawing shrinks 5x, so its strips are 1.0 mm wide; --width 0.6 overrides that.
+    const std::string el = write_file("filigree_stroked_l.svg",
+                                      "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 70 90\"><polyline fill=\"none\" "
+                                      "stroke=\"#000\" stroke-width=\"5\" points=\"5,85 65,85 65,5\"/></svg>");
+    auto width_of = [&](std::vector<std::string> extra) {
+        const std::string out = (work_dir / "filigree_stroked.svg").string();
+        std::vector<std::string> a = {"--element", el, "--rect", "50", "40", "--scale", "20", "--no-structure", "-o", out};
+        a.insert(a.end(), extra.begin(), extra.end());
+        const result r = run("filigree", a);
+        INFO("stderr: " << r.err);
+        REQUIRE(r.code == 0);
+        fs::path rep = out;
+        rep.replace_extension(".json");
+        return json::parse(slurp(rep)).at("elements").at(0).at("median_strip_width_mm").get<double>();
+    };
+    CHECK(width_of({}) == Approx(1.0).epsilon(1e-6));
+    CHECK(width_of({"--width", "0.6"}) == Approx(0.6).epsilon(1e-9));
+}
+
 TEST_CASE("filigree: bad input is refused with the documented exit code and nothing written", "[cli][filigree]") {
     const std::string el = (data_dir / "filigree/spiral.svg").string();
     const std::string out = (work_dir / "filigree_bad.svg").string();
@@ -179,7 +200,9 @@ TEST_CASE("filigree: bad input is refused with the documented exit code and noth
              {"NaN coordinates", {"--element", nan_svg, "--rect", "50", "50", "--scale", "20", "--width", "0.8", "-o", out}, 5, "filigree_nan.svg"},
              {"an element larger than the domain", args({"--rect", "5", "5"}), 3, "larger than the domain"},
              {"a domain of zero area", args({"--domain", flat}), 2, "zero area"},
-             {"width <= 0", args({"--rect", "50", "50", "--width", "0"}), 2, "--width"},
+             {"width < 0", args({"--rect", "50", "50", "--width", "-0.5"}), 2, "--width"},
+             {"crossing penalty < 0", args({"--rect", "50", "50", "--crossing-penalty", "-1"}), 2, "--crossing-penalty"},
+             {"max bridge < -1", args({"--rect", "50", "50", "--max-bridge", "-2"}), 2, "--max-bridge"},
              {"width NaN", args({"--rect", "50", "50", "--width", "nan"}), 2, "--width"},
              {"no domain", args({}), 2, "--rect"},
              {"field image without scales", args({"--rect", "50", "50", "--field-image", (data_dir / "filigree/gradient_field.png").string()}), 2,

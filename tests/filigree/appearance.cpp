@@ -145,6 +145,15 @@ TEST_CASE("crossing term: fewer strips cut across each other; an over-dense star
     CHECK(dense.synthesis.initial.size() > crossing.synthesis.initial.size());
     CHECK(dense.synthesis.duplicates_removed > 0);
     CHECK(dense.synthesis.instances.size() < dense.synthesis.initial.size());
+    // The per-round record (Fig. 22 and its counts) adds up to the run's totals.
+    const auto& rounds = dense.synthesis.per_round;
+    REQUIRE(rounds.size() == static_cast<std::size_t>(dense.synthesis.rounds));
+    std::size_t merged = 0, boosted = 0;
+    for (const round_record& rr : rounds) merged += rr.duplicates_removed, boosted += rr.boosted;
+    CHECK(merged == dense.synthesis.duplicates_removed);
+    CHECK(boosted == dense.synthesis.boosted);
+    CHECK(rounds.back().instances == dense.synthesis.instances.size());
+    CHECK(rounds.back().pme_per_instance == Approx(dense.synthesis.energy_per_round.back()));
 }
 
 }  // namespace appearance_test

@@ -69,6 +69,15 @@ struct synthesis_options {
     std::uint64_t seed = 1;
 };
 
+/// What one round of placement and boosting did (the paper's Fig. 22 plots the PME per instance
+/// over the rounds; the counts say which step moved what).
+struct round_record {
+    std::size_t instances = 0;         ///< after the round's merge of duplicates
+    double pme_per_instance = 0;       ///< PME / instances after the round
+    double translation_mm = 0;         ///< summed translation of placement and boosting
+    std::size_t smooth_connections = 0, boosted = 0, reconnected = 0, duplicates_removed = 0;
+};
+
 /// Seconds spent per stage.
 struct synthesis_timings {
     double initialization = 0, placement = 0, boosting = 0, topology_cut = 0;
@@ -84,6 +93,7 @@ struct synthesis_result {
     int rounds = 0;
     std::size_t duplicates_removed = 0, smooth_connections = 0, boosted = 0;
     std::size_t reconnected = 0;  ///< boosting moves that kept a neighbour by a deformation (§4.4)
+    std::vector<round_record> per_round;  ///< what each round of placement and boosting did
     std::size_t database_size = 0;
     double covered_fraction = 0;
     topology_cut_report cut{};
@@ -169,9 +179,12 @@ void optimize_layout(S& s, const synthesis_options& opt, R& r, const progress_sp
     r.energy_initial = s.pattern_energy();
     r.energy_per_round.push_back(s.size() ? r.energy_initial / static_cast<double>(s.size()) : 0.0);
     for (int round = 0; round < opt.max_rounds; ++round) {
+        const round_record before{0, 0, 0, r.smooth_connections, r.boosted, r.reconnected, r.duplicates_removed};
         const double moved = ds::run_round(s, D, opt, round, r, progress.part(static_cast<double>(round) / opt.max_rounds, static_cast<double>(round + 1) / opt.max_rounds));
         ++r.rounds;
         r.energy_per_round.push_back(s.size() ? s.pattern_energy() / static_cast<double>(s.size()) : 0.0);
+        r.per_round.push_back({s.size(), r.energy_per_round.back(), moved, r.smooth_connections - before.smooth_connections,
+                               r.boosted - before.boosted, r.reconnected - before.reconnected, r.duplicates_removed - before.duplicates_removed});
         if (moved < opt.converged_translation * ds::mean_size(s) * static_cast<double>(s.size())) break;
     }
     r.database_size = D.size();

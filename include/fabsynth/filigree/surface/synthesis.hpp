@@ -35,6 +35,7 @@ struct surface_synthesis_result {
     double energy_initial = 0, energy_after_placement = 0, energy_final = 0;
     int rounds = 0;
     std::size_t duplicates_removed = 0, smooth_connections = 0, boosted = 0, reconnected = 0, database_size = 0;
+    std::vector<round_record> per_round;  ///< what each round of placement and boosting did (synthesis.hpp)
     surface_cut_report cut{};        ///< the topology cut (when synthesis_options::topology_cut)
     std::size_t maps_built = 0;      ///< local parameterizations built
     double map_seconds = 0;          ///< time in them, summed over threads
