@@ -51,6 +51,17 @@ struct point_cloud {
 };
 using kd_tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, point_cloud, double>, point_cloud, 2, std::size_t>;
 
+// Index of the point of the tree's cloud nearest to p.
+[[nodiscard]] inline std::size_t nearest_index(const kd_tree& tree, vec2 p) {
+    std::size_t idx = 0;
+    double d2 = 0;
+    nanoflann::KNNResultSet<double, std::size_t> rs(1);
+    rs.init(&idx, &d2);
+    const double q[2] = {p.x, p.y};
+    tree.findNeighbors(rs, q, nanoflann::SearchParams());
+    return idx;
+}
+
 inline constexpr std::size_t tree_threshold = 48;  // below this many points a scan is faster than building a tree
 
 // Mean over u in U of the distance from u to the nearest point of V (V non-empty).
@@ -70,13 +81,7 @@ inline constexpr std::size_t tree_threshold = 48;  // below this many points a s
         kd_tree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
         tree.buildIndex();
         for (const vec2& u : U) {
-            std::size_t idx = 0;
-            double d2 = 0;
-            nanoflann::KNNResultSet<double, std::size_t> rs(1);
-            rs.init(&idx, &d2);
-            const double q[2] = {u.x, u.y};
-            tree.findNeighbors(rs, q, nanoflann::SearchParams());
-            const vec2 d = u - V[idx];  // the same formula as the scan: identical results
+            const vec2 d = u - V[nearest_index(tree, u)];  // the same formula as the scan: identical results
             sum += std::sqrt(d.x * d.x + d.y * d.y);
         }
     }

@@ -156,12 +156,7 @@ inline double nearest_contact(const polygon_with_holes& piece, const detail::mat
     double best = std::numeric_limits<double>::infinity();
     auto visit = [&](const ring2& r) {
         for (const vec2& p : r) {
-            std::size_t idx = 0;
-            double d2 = 0;
-            nanoflann::KNNResultSet<double, std::size_t> rs(1);
-            rs.init(&idx, &d2);
-            const double q[2] = {p.x, p.y};
-            tree.findNeighbors(rs, q, nanoflann::SearchParams());
+            const std::size_t idx = detail::matching::nearest_index(tree, p);
             const double d = glm::distance(p, cloud[idx]);
             if (d < best) best = d, from = p, to = cloud[idx];
         }
