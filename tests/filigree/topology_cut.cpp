@@ -252,8 +252,8 @@ inline skel lens_q() { return polyline({{9, 5}, {12, 2}, {16, 2}, {16, 8}, {12, 
 // using-directive could otherwise make a helper name ambiguous.
 
 TEST_CASE("topology cut: a short stub beyond a single crossing is trimmed (Fig. 9a)", "[filigree][topology_cut]") {
-    SECTION("0.4 mm stub, threshold 1.5 x 0.5 mm: trimmed") {
-        std::vector<skel> v{polyline({{0, 0}, {10, 0}}, 0.5), polyline({{5, 8}, {5, -0.4}}, 0.5)};
+    SECTION("1.0 mm stub, threshold 30 x 0.5 mm: trimmed, the crossing becomes a T") {
+        std::vector<skel> v{polyline({{0, 0}, {10, 0}}, 0.5), polyline({{5, 8}, {5, -1.0}}, 0.5)};
         const auto r = run(v, {{0, 1}});
         CHECK(r.protrusions_trimmed == 1);
         CHECK(r.branches_cut == 0);
@@ -262,22 +262,33 @@ TEST_CASE("topology cut: a short stub beyond a single crossing is trimmed (Fig. 
         CHECK(v[0].num_edges() == 2);
         CHECK(v[1].total_length() == Approx(8.0));   // the stem down to the bar
         CHECK(v[1].num_edges() == 1);
-        CHECK_FALSE(has_edge_on(v[1], {5, -0.4}, {5, -1e-3}));
+        CHECK_FALSE(has_edge_on(v[1], {5, -1.0}, {5, -1e-3}));
         CHECK(pattern_connected(v));
     }
-    SECTION("1.0 mm stub: longer than the threshold, kept (split only)") {
-        std::vector<skel> v{polyline({{0, 0}, {10, 0}}, 0.5), polyline({{5, 8}, {5, -1.0}}, 0.5)};
+    SECTION("only the shortest of the four arms goes: an X becomes a T") {
+        // arms: bar 3 and 7, stem 4 and 4; the bar's 3 mm left arm is cut, nothing else
+        std::vector<skel> v{polyline({{0, 0}, {10, 0}}, 0.5), polyline({{3, 4}, {3, -4}}, 0.5)};
         const auto r = run(v, {{0, 1}});
-        CHECK(r.protrusions_trimmed == 0);
-        CHECK(v[1].total_length() == Approx(9.0));
+        CHECK(r.protrusions_trimmed == 1);
+        CHECK(v[0].total_length() == Approx(7.0));
+        CHECK_FALSE(has_edge_on(v[0], {0, 0}, {3, 0}));
+        CHECK(v[1].total_length() == Approx(8.0));  // the stem crosses whole
+        CHECK(pattern_connected(v));
+    }
+    SECTION("every arm longer than the threshold: kept (split only)") {
+        std::vector<skel> v{polyline({{0, 0}, {40, 0}}, 0.5), polyline({{20, 20}, {20, -16}}, 0.5)};
+        const auto r = run(v, {{0, 1}});
+        CHECK(r.protrusions_trimmed == 0);  // shortest arm 16 mm >= 30 x 0.5 mm
+        CHECK(v[0].total_length() == Approx(40.0));
+        CHECK(v[1].total_length() == Approx(36.0));
         CHECK(v[1].num_edges() == 2);
     }
-    SECTION("explicit protrusion_length 1.2 mm: the 1.0 mm stub goes") {
+    SECTION("explicit protrusion_length 0.8 mm: the 1.0 mm stub stays") {
         std::vector<skel> v{polyline({{0, 0}, {10, 0}}, 0.5), polyline({{5, 8}, {5, -1.0}}, 0.5)};
         topology_cut_options opt;
-        opt.protrusion_length = 1.2;
-        CHECK(run(v, {{0, 1}}, opt).protrusions_trimmed == 1);
-        CHECK(v[1].total_length() == Approx(8.0));
+        opt.protrusion_length = 0.8;
+        CHECK(run(v, {{0, 1}}, opt).protrusions_trimmed == 0);
+        CHECK(v[1].total_length() == Approx(9.0));
     }
 }
 
@@ -477,6 +488,9 @@ TEST_CASE("topology cut: bad input is refused by name, nothing changed", "[filig
     topology_cut_options opt;
     opt.close_intersections = std::numeric_limits<double>::quiet_NaN();
     CHECK_THROWS_WITH(run(v, {{0, 1}}, opt), Catch::Contains("close_intersections"));
+    opt = {};
+    opt.detached_length = std::numeric_limits<double>::infinity();
+    CHECK_THROWS_WITH(run(v, {{0, 1}}, opt), Catch::Contains("detached_length"));
     opt = {};
     opt.beta = -1.0;
     CHECK_THROWS_WITH(run(v, {{0, 1}}, opt), Catch::Contains("beta"));
