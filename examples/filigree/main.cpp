@@ -3,7 +3,9 @@
 //
 //   filigree --element E.svg [--element E2.svg[:WEIGHT] ...] (--rect W H | --domain D.svg)
 //            --scale MM [--width MM] [--rotation DEG | --field-image F.png --field-scale S0 S1]
-//            [--thickness MM] [--material abs|pla] [--no-structure] [--seed S] -o OUT.svg
+//            [--rotation-image R.png --rotation-range A0 A1] [--thickness MM] [--max-thickness MM]
+//            [--material abs|pla|petg|pa12|316l|ti64] [--support-edge SIDE | --support-box X0 Y0 X1 Y1 | --hang X Y]
+//            [--upright] [--no-structure] [--seed S] -o OUT.svg
 //   filigree --element E.svg ... --mesh M.obj [--mesh-size MM] [--region FACES.txt | --region-curve C.csv] [--up X Y Z]
 //            [--field-scale-file F.txt] --scale MM [--width MM] [--thickness MM] [--seed S] -o OUT.stl
 //            (on a base surface: OUT.stl printable solid, OUT.obj baked M_b, OUT.png, OUT.json)
@@ -14,15 +16,20 @@
 // connections and boosting (§4.3, §4.4) -> topology cut (§4.5) -> strips (reconstruct.hpp, §6) ->
 // structural optimization by shell FEM (§5) -> extrusion or thickening, previews) and writes the
 // files. Outputs of the planar form: OUT.svg (filled shapes only), OUT.stl (watertight extrusion, y
-// flipped so the print looks like the drawing), OUT.png (preview), OUT_steps.png (after
-// initialization, placement, boosting and topology cut, like the paper's Fig. 8), OUT.json
-// (report). Nothing is written unless everything succeeded. Conventions (exit codes, --quiet,
+// flipped so the print looks like the drawing), OUT.3mf (the same mesh, mm; where lib3mf is
+// available), OUT.png (preview), OUT_steps.png (after initialization, placement, boosting and
+// topology cut, like the paper's Fig. 8), OUT_stress.png and OUT_histogram.png (Fig. 10 and 21,
+// with the structural optimization), OUT.json (report). The surface form adds OUT.3mf and
+// OUT_histogram.png. Nothing is written unless everything succeeded. Conventions (exit codes, --quiet,
 // --json): docs/tools.md.
 
 
 #include <fabsynth/filigree/pipeline.hpp>
 #include <fabsynth/filigree/surface/pipeline.hpp>
 #include <fabsynth/io/image.hpp>
+#if defined(FABSYNTH_HAS_LIB3MF)
+#include <fabsynth/io/mesh_3mf.hpp>
+#endif
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/mesh_obj.hpp>
 #include <fabsynth/io/mesh_stl.hpp>
@@ -113,18 +120,31 @@ nlohmann::ordered_json layout_fields(const R& syn) {
             {"per_round", rounds_json(syn.per_round)}};
 }
 
+// How the flat piece is held (reinforcement_options::support), for the report.
+nlohmann::ordered_json support_json(const planar_support& ps) {
+    static const char* sides[] = {"top", "bottom", "left", "right"};
+    nlohmann::ordered_json j;
+    if (ps.box) j = {{"box_mm", {ps.box->lo.x, ps.box->lo.y, ps.box->hi.x, ps.box->hi.y}}};
+    else if (ps.hang) j = {{"hang_mm", {ps.hang->x, ps.hang->y}}, {"hang_radius_mm", ps.hang_radius}};
+    else j = {{"side", sides[static_cast<int>(ps.side)]}, {"fraction", ps.fraction}};
+    j["gravity"] = ps.upright ? "in the plane, toward the drawing's bottom" : "out of the plane";
+    return j;
+}
+
 // The §5 record of both forms (reinforcement_result and surface_reinforcement_result share these
 // names); `up`: the surface form's up vector, between pressure and supports.
 template <class R>
-nlohmann::ordered_json structure_fields(const R& rf, const std::string& material, double pressure, const std::vector<double>* up) {
-    nlohmann::ordered_json s = {{"analysed", rf.analysed}, {"material", material}, {"pressure_pa", pressure}};
+nlohmann::ordered_json structure_fields(const R& rf, const reinforcement_options& opt, const std::vector<double>* up) {
+    nlohmann::ordered_json s = {{"analysed", rf.analysed}, {"material", material_name(opt.material)}, {"pressure_pa", opt.pressure_pa}};
     if (up) s["up"] = *up, s["supports"] = "lowest 5% along up";
+    else s["supports"] = support_json(opt.support);
     s.update(nlohmann::ordered_json{{"yield_mpa", rf.yield_mpa}, {"fem_nodes", rf.fem_nodes}, {"solver", rf.solver},
                                     {"histogram_bin_mpa", rf.histogram_bin_mpa}, {"histogram_before", rf.histogram_before},
                                     {"histogram_after", rf.histogram_after}, {"max_von_mises_before_mpa", rf.max_von_mises_before},
                                     {"max_von_mises_after_mpa", rf.max_von_mises_after}, {"weak_fraction_phase1", rf.weak_fraction_phase1},
                                     {"inserted_per_round", rf.inserted_per_round}, {"thickness_phase2_mm", rf.thickness_phase2},
-                                    {"weak_fraction_phase2", rf.weak_fraction_phase2}});
+                                    {"weak_fraction_phase2", rf.weak_fraction_phase2}, {"max_thickness_mm", opt.max_thickness},
+                                    {"strong", rf.strong}, {"weak_nodes_final", rf.weak_nodes_final}});
     return s;
 }
 
@@ -175,8 +195,7 @@ auto progress_between(Progress& progress, double from, double to) {
 
 // The --mesh form: elements read as in the 2D form, the rest on the surface.
 template <class Progress>
-void run_surface_mode(const surface_request& rq, const std::vector<std::string>& element_args, double scale, double width, const std::string& material,
-                      surface_filigree_options opt, double tolerance, double max_elements, const std::string& out_path, tool::common& common,
+void run_surface_mode(const surface_request& rq, const std::vector<std::string>& element_args, double scale, double width, surface_filigree_options opt, double tolerance, double max_elements, const std::string& out_path, tool::common& common,
                       Progress& progress) {
     const auto t_start = std::chrono::steady_clock::now();
     std::vector<element_arg> elements;
@@ -187,9 +206,11 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     if (!rq.region_curve.empty()) inputs.emplace_back(rq.region_curve);
     if (!rq.scale_file.empty()) inputs.emplace_back(rq.scale_file);
     const fs::path out(out_path);
-    fs::path stl_out = out, obj_out = out, png_out = out, json_out = out;
+    fs::path stl_out = out, obj_out = out, png_out = out, json_out = out, threemf_out = out;
     stl_out.replace_extension(".stl"), obj_out.replace_extension(".obj"), png_out.replace_extension(".png"), json_out.replace_extension(".json");
-    tool::check_outputs(inputs, {stl_out, obj_out, png_out, json_out});
+    threemf_out.replace_extension(".3mf");
+    const fs::path hist_out = out.parent_path() / (out.stem().string() + "_histogram.png");
+    tool::check_outputs(inputs, {stl_out, obj_out, png_out, json_out, threemf_out, hist_out});
     for (const auto& e : elements)
         if (!fs::is_regular_file(e.path)) throw io_error(e.path, 0, "no such element file");
     check_common_ranges(scale, width, opt.reinforcement.thickness, tolerance, opt.synthesis.sigma_d, opt.synthesis.sigma_f, opt.synthesis.max_rounds);
@@ -206,6 +227,10 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     if (!(std::isfinite(opt.reinforcement.pressure_pa) && opt.reinforcement.pressure_pa >= 0))
         throw invalid_input("--pressure must be finite and >= 0 Pa");
     const fs::path stl_file = outputs.add(stl_out), obj_file = outputs.add(obj_out), png_file = outputs.add(png_out), json_file = outputs.add_manifest(json_out);
+#if defined(FABSYNTH_HAS_LIB3MF)
+    const fs::path threemf_file = outputs.add(threemf_out);
+#endif
+    const fs::path hist_file = opt.reinforcement.enabled ? outputs.add(hist_out) : fs::path();
 
     progress(0.0, "read mesh");
     triangle_mesh mesh = io::read_mesh(rq.mesh);
@@ -247,7 +272,7 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
                           {"split_vertices_off_surface", syn.cut.vertices_off_surface}}},
         {"pieces_dropped", rf.pieces_dropped},
         {"pieces_dropped_area_fraction", rf.dropped_area_fraction},
-        {"structure", structure_fields(rf, material, opt.reinforcement.pressure_pa, &rq.up)},
+        {"structure", structure_fields(rf, opt.reinforcement, &rq.up)},
         {"instances_final", rf.instances.size()},
         {"thickness_mm", rf.thickness},
         {"baked_triangles", rf.baked.faces.size()},
@@ -262,7 +287,11 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     progress(0.95, "write");
     io::write_stl(stl_file, f.solid);
     io::write_obj(obj_file, rf.baked);
+#if defined(FABSYNTH_HAS_LIB3MF)
+    io::write_3mf(threemf_file, f.solid, {.name = out.stem().string()});
+#endif
     io::write_png(png_file, f.preview);
+    if (!f.histogram.empty()) io::write_png(hist_file, f.histogram);
     write_report(json_file, json_out, report);
     outputs.commit();
     progress(1.0, "write");
@@ -281,14 +310,15 @@ int main(int argc, char** argv) {
         "Elements (stroked SVG paths = strip skeletons; filled shapes are reduced to their medial axis; shapes with an id\n"
         "starting with 'cover' are convex parts of the covering region) are scaled to --scale mm (bounding-box\n"
         "diagonal), distributed, optimized for matching overlaps and tangential contacts, trimmed, reinforced by shell FEM\n"
-        "and extruded. Writes OUT.svg, OUT.stl, OUT.png, OUT_steps.png and OUT.json.",
+        "and extruded. Writes OUT.svg, OUT.stl, OUT.3mf, OUT.png, OUT_steps.png, OUT_stress.png, OUT_histogram.png and OUT.json.",
         "filigree"};
     tool::common common(app);
     std::vector<std::string> element_args;
-    std::string domain_path, field_image, material = "abs", out_path;
-    std::vector<double> rect, field_scale;
+    std::string domain_path, field_image, rotation_image, material = "abs", support_edge, out_path;
+    std::vector<double> rect, field_scale, rotation_range, support_box, hang;
     double scale = 0, width = 0, rotation_deg = 0, thickness = 1.0, sigma_d = 0.15, sigma_f = 0.05, tolerance = 0.05;
-    double pressure = 1000.0;
+    double pressure = 1000.0, max_thickness = 0, hang_radius = 0;
+    bool upright = false;
     filigree_options defaults;
     double crossing_penalty = defaults.synthesis.crossing_penalty, max_bridge = defaults.reinforcement.max_bridge_mm;
     int rounds = 6;
@@ -306,8 +336,24 @@ int main(int argc, char** argv) {
                        ->check(CLI::ExistingFile);
     app.add_option("--field-scale", field_scale, "S0 S1: scale factors at black and white of --field-image")->expected(2);
     o_rot->excludes(o_fimg);
+    auto* o_rimg = app.add_option("--rotation-image", rotation_image,
+                                  "grayscale PNG over the domain's bounding box: element rotation from black to white (--rotation-range)")
+                       ->check(CLI::ExistingFile)
+                       ->excludes(o_rot);
+    app.add_option("--rotation-range", rotation_range, "A0 A1: rotations at black and white of --rotation-image, degrees")->expected(2);
     app.add_option("--thickness", thickness, "extrusion and shell thickness, mm (structural optimization may raise it)")->capture_default_str();
-    app.add_option("--material", material, "abs | pla (elastic constants and yield stress, filigree/structure.hpp)")->capture_default_str();
+    app.add_option("--material", material, "abs | pla | petg | pa12 | 316l | ti64 (elastic constants and yield stress, filigree/structure.hpp)")
+        ->capture_default_str();
+    app.add_option("--max-thickness", max_thickness,
+                   "thickest the structural optimization may make the piece, mm; it stops there and reports the nodes still weak (default: no bound)");
+    auto* o_edge = app.add_option("--support-edge", support_edge, "top | bottom | left | right: the piece is clamped along 5% of this side (default top, as drawn)");
+    auto* o_sbox = app.add_option("--support-box", support_box, "X0 Y0 X1 Y1: clamp the piece where it lies in this box (mm, as drawn, y down)")->expected(4);
+    auto* o_hang = app.add_option("--hang", hang, "X Y: the piece hangs upright from an eyelet at this point (mm, as drawn); its weight pulls down the drawing")
+                       ->expected(2);
+    app.add_option("--hang-radius", hang_radius, "radius of the --hang eyelet, mm (default: the median strip width)");
+    app.add_flag("--upright", upright, "the piece stands upright: gravity in its plane toward the drawing's bottom (default: lying flat)");
+    o_edge->excludes(o_sbox)->excludes(o_hang);
+    o_sbox->excludes(o_hang);
     app.add_option("--pressure", pressure, "external pressure on the piece, Pa (§5)")->capture_default_str();
     app.add_flag("--no-structure", no_structure, "skip the structural optimization (§5)");
     app.add_option("--seed", seed, "variety seed (same seed -> identical output)");
@@ -336,7 +382,7 @@ int main(int argc, char** argv) {
         ->excludes(o_region);
     app.add_option("--up", on_mesh.up, "X Y Z: the elements' up vector, projected onto the surface (default 0 0 1)")->expected(3);
     app.add_option("--field-scale-file", on_mesh.scale_file, "text file of one element scale factor per mesh vertex")->check(CLI::ExistingFile);
-    o_mesh->excludes(o_rect)->excludes(o_domain)->excludes(o_fimg)->excludes(o_rot);
+    o_mesh->excludes(o_rect)->excludes(o_domain)->excludes(o_fimg)->excludes(o_rot)->excludes(o_rimg)->excludes(o_edge)->excludes(o_sbox)->excludes(o_hang);
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
@@ -348,26 +394,39 @@ int main(int argc, char** argv) {
         opt.synthesis.crossing_penalty = crossing_penalty;
         opt.reinforcement.max_bridge_mm = max_bridge;
         opt.reinforcement.thickness = thickness, opt.reinforcement.pressure_pa = pressure, opt.reinforcement.enabled = !no_structure;
+        try {
+            opt.reinforcement.material = parse_material(material);
+        } catch (const invalid_input& e) {
+            throw invalid_input(std::string("--material: ") + e.what());
+        }
+        if (max_thickness != 0) tool::require_range(max_thickness, thickness, 1e3, "--max-thickness", "mm (at least --thickness)");
+        opt.reinforcement.max_thickness = max_thickness;
+        if (no_structure && (max_thickness != 0 || !support_edge.empty() || !support_box.empty() || !hang.empty() || upright || hang_radius != 0))
+            throw invalid_input("--max-thickness, --support-edge, --support-box, --hang, --hang-radius and --upright need the structural optimization (drop --no-structure)");
         if (!on_mesh.mesh.empty()) {
-            opt.reinforcement.material = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
+            if (upright || hang_radius != 0) throw invalid_input("--upright and --hang-radius are for a planar piece; on a surface the supports follow --up");
             surface_filigree_options so;
             static_cast<filigree_options&>(so) = opt;
             so.up = vec3(on_mesh.up[0], on_mesh.up[1], on_mesh.up[2]);
-            return run_surface_mode(on_mesh, element_args, scale, width, material, std::move(so), tolerance, max_elements, out_path, common, progress);
+            return run_surface_mode(on_mesh, element_args, scale, width, std::move(so), tolerance, max_elements, out_path, common, progress);
         }
         const fs::path svg_out(out_path);
-        fs::path stl_out = svg_out, png_out = svg_out, json_out = svg_out;
+        fs::path stl_out = svg_out, png_out = svg_out, json_out = svg_out, threemf_out = svg_out;
         stl_out.replace_extension(".stl");
+        threemf_out.replace_extension(".3mf");
         png_out.replace_extension(".png");
         json_out.replace_extension(".json");
         const fs::path steps_out = svg_out.parent_path() / (svg_out.stem().string() + "_steps.png");
+        const fs::path stress_out = svg_out.parent_path() / (svg_out.stem().string() + "_stress.png");
+        const fs::path hist_out = svg_out.parent_path() / (svg_out.stem().string() + "_histogram.png");
         std::vector<element_arg> elements;
         for (const std::string& a : element_args) elements.push_back(parse_element(a));
         std::vector<fs::path> inputs;
         for (const auto& e : elements) inputs.emplace_back(e.path);
         if (!domain_path.empty()) inputs.emplace_back(domain_path);
         if (!field_image.empty()) inputs.emplace_back(field_image);
-        tool::check_outputs(inputs, {svg_out, stl_out, png_out, steps_out, json_out});
+        if (!rotation_image.empty()) inputs.emplace_back(rotation_image);
+        tool::check_outputs(inputs, {svg_out, stl_out, png_out, steps_out, json_out, threemf_out, stress_out, hist_out});
         for (const auto& e : elements)
             if (!fs::is_regular_file(e.path)) throw io_error(e.path, 0, "no such element file");
         if (rect.empty() == domain_path.empty()) throw invalid_input("give exactly one of --rect and --domain");
@@ -377,10 +436,35 @@ int main(int argc, char** argv) {
         if (!field_image.empty() && field_scale.size() != 2) throw invalid_input("--field-image needs --field-scale S0 S1");
         if (field_image.empty() && !field_scale.empty()) throw invalid_input("--field-scale needs --field-image");
         for (double s : field_scale) tool::require_range(s, 1e-2, 1e2, "--field-scale", "");
-        opt.reinforcement.material = material == "pla" ? material_preset::pla : material == "abs" ? material_preset::abs : throw invalid_input("--material must be abs or pla, got '" + material + "'");
+        if (!rotation_image.empty() && rotation_range.size() != 2) throw invalid_input("--rotation-image needs --rotation-range A0 A1");
+        if (rotation_image.empty() && !rotation_range.empty()) throw invalid_input("--rotation-range needs --rotation-image");
+        for (double a : rotation_range) tool::require_range(a, -3600.0, 3600.0, "--rotation-range", "degrees");
+        planar_support& sup = opt.reinforcement.support;
+        if (!support_edge.empty()) {
+            const std::vector<std::string> sides{"top", "bottom", "left", "right"};
+            const auto it = std::find(sides.begin(), sides.end(), support_edge);
+            if (it == sides.end()) throw invalid_input("--support-edge must be top, bottom, left or right, got '" + support_edge + "'");
+            sup.side = static_cast<support_side>(it - sides.begin());
+        }
+        for (double v : support_box) tool::require_range(v, -1e5, 1e5, "--support-box", "mm");
+        if (!support_box.empty()) {
+            if (!(support_box[0] < support_box[2] && support_box[1] < support_box[3])) throw invalid_input("--support-box needs X0 < X1 and Y0 < Y1");
+            sup.box = box2(vec2(support_box[0], support_box[1]), vec2(support_box[2], support_box[3]));
+        }
+        for (double v : hang) tool::require_range(v, -1e5, 1e5, "--hang", "mm");
+        if (hang_radius != 0) {
+            if (hang.empty()) throw invalid_input("--hang-radius needs --hang X Y");
+            tool::require_range(hang_radius, 1e-3, 1e3, "--hang-radius", "mm");
+        }
+        if (!hang.empty()) sup.hang = vec2(hang[0], hang[1]), sup.hang_radius = hang_radius, sup.upright = true;
+        if (upright) sup.upright = true;
         tool::output_set outputs;
         const fs::path svg_file = outputs.add(svg_out), stl_file = outputs.add(stl_out), png_file = outputs.add(png_out),
                        steps_file = outputs.add(steps_out), json_file = outputs.add_manifest(json_out);
+#if defined(FABSYNTH_HAS_LIB3MF)
+        const fs::path threemf_file = outputs.add(threemf_out);
+#endif
+        const fs::path stress_file = no_structure ? fs::path() : outputs.add(stress_out), hist_file = no_structure ? fs::path() : outputs.add(hist_out);
 
         progress(0.0, "read elements");
         const planar_domain domain = rect.empty() ? planar_domain::from_svg(io::read_svg(domain_path, 0.01), domain_path)
@@ -396,11 +480,17 @@ int main(int argc, char** argv) {
             check_work(domain.area, smallest, opt, max_elements, "a domain of ");
             opt.synthesis.init.max_elements = static_cast<std::size_t>(max_elements);
         }
-        any_field field = constant_field{rotation_deg * std::numbers::pi / 180.0, 1.0};
+        constexpr double deg = std::numbers::pi / 180.0;
+        any_field field = constant_field{rotation_deg * deg, 1.0};
         std::string field_kind = "constant";
         if (!field_image.empty()) {
-            field = image_field(grey_levels(io::read_png(field_image)), domain.bounds, field_scale[0], field_scale[1], rotation_deg * std::numbers::pi / 180.0);
+            field = image_field(grey_levels(io::read_png(field_image)), domain.bounds, field_scale[0], field_scale[1], rotation_deg * deg);
             field_kind = "image";
+        }
+        if (!rotation_image.empty()) {
+            image_rotation_field rot(grey_levels(io::read_png(rotation_image)), domain.bounds, rotation_range[0] * deg, rotation_range[1] * deg);
+            field = combined_field<image_rotation_field, any_field>{std::move(rot), field};
+            field_kind = field_image.empty() ? "rotation image" : "rotation image, scale image";
         }
 
         const planar_filigree f = make_filigree(std::span<const element>(classes), weights, domain, field, opt, progress_between(progress, 0.05, 0.95));
@@ -427,7 +517,8 @@ int main(int argc, char** argv) {
                             {"overlap_area_fraction", f.appearance.overlap_area_fraction},
                             {"free_ends", f.appearance.free_ends},
                             {"crossing_points_mm", points_json(f.appearance.crossing_points)}}},
-            {"structure", structure_fields(rf, material, pressure, nullptr)},
+            {"structure", structure_fields(rf, opt.reinforcement, nullptr)},
+            {"weak_points_mm", points_json(rf.weak_points)},
             {"thickness_mm", rf.thickness},
             {"stl_triangles", f.mesh.faces.size()},
             {"seconds", {{"initialization", f.seconds.synthesis.initialization}, {"placement", f.seconds.synthesis.placement},
@@ -443,8 +534,12 @@ int main(int argc, char** argv) {
         progress(0.95, "write");
         io::write_svg(svg_file, io::document_of(f.outline(), f.view));
         io::write_stl(stl_file, f.mesh);
+#if defined(FABSYNTH_HAS_LIB3MF)
+        io::write_3mf(threemf_file, f.mesh, {.name = svg_out.stem().string()});
+#endif
         io::write_png(png_file, f.preview);
         io::write_png(steps_file, f.steps);
+        if (!f.stress_map.empty()) io::write_png(stress_file, f.stress_map), io::write_png(hist_file, f.histogram);
         write_report(json_file, json_out, report);
         outputs.commit();
         progress(1.0, "write");

@@ -31,5 +31,6 @@
 #include "fabsynth/filigree/structure.hpp"
 #include "fabsynth/filigree/reinforcement.hpp"
 #include "fabsynth/filigree/appearance.hpp"
+#include "fabsynth/filigree/figures.hpp"
 #include "fabsynth/filigree/pipeline.hpp"
 #include "fabsynth/filigree/surface/pipeline.hpp"

@@ -17,6 +17,10 @@
 #include <string>
 #include <vector>
 
+#if defined(FABSYNTH_HAS_LIB3MF)
+#include <fabsynth/io/mesh_3mf.hpp>
+#endif
+
 #include "cli_util.hpp"
 
 namespace filigree_cli {
@@ -181,6 +185,68 @@ TEST_CASE("filigree: without --width the strips take the SVG's stroke width, sca
     CHECK(width_of({"--width", "0.6"}) == Approx(0.6).epsilon(1e-9));
 }
 
+namespace filigree_cli {
+// Width, height and PNG colour type (2: RGB) from the IHDR chunk.
+std::array<int, 3> png_header(const std::string& bytes) {
+    auto be32 = [&](std::size_t at) {
+        return (static_cast<int>(static_cast<unsigned char>(bytes[at])) << 24) | (static_cast<int>(static_cast<unsigned char>(bytes[at + 1])) << 16) |
+               (static_cast<int>(static_cast<unsigned char>(bytes[at + 2])) << 8) | static_cast<int>(static_cast<unsigned char>(bytes[at + 3]));
+    };
+    REQUIRE(bytes.size() > 26);
+    REQUIRE(bytes.compare(1, 3, "PNG") == 0);
+    return {be32(16), be32(20), static_cast<unsigned char>(bytes[25])};
+}
+}  // namespace filigree_cli
+
+TEST_CASE("filigree: how the piece is held, its material and a thickness bound act as documented; 3MF and the figures of §5", "[cli][filigree]") {
+    using namespace filigree_cli;
+    const std::string el = (data_dir / "filigree/s_curl.svg").string();
+    auto run_with = [&](const std::string& name, std::vector<std::string> extra) {
+        const std::string out = (work_dir / (name + ".svg")).string();
+        std::vector<std::string> a = {"--element", el, "--rect", "60", "40", "--scale", "16", "--width", "0.8", "--seed", "5", "-o", out};
+        a.insert(a.end(), extra.begin(), extra.end());
+        const result r = run("filigree", a);
+        INFO("stderr: " << r.err);
+        REQUIRE(r.code == 0);
+        return json::parse(slurp(work_dir / (name + ".json")));
+    };
+    // Lying flat, held along the top as drawn (the default), 1 kPa: the piece needs 1.1 mm.
+    const json flat = run_with("filigree_flat", {});
+    CHECK(flat.at("structure").at("supports").at("side") == "top");
+    CHECK(flat.at("thickness_mm").get<double>() > 1.0);
+    // Hanging upright from an eyelet with no pressure: its own weight pulls in its plane, a membrane
+    // load far below the yield, so the initial 1 mm stays and the peak stress falls by orders of magnitude.
+    const json hung = run_with("filigree_hung", {"--hang", "30", "1", "--hang-radius", "6", "--pressure", "0"});
+    const json& hs = hung.at("structure");
+    CHECK(hs.at("supports").at("hang_mm") == json::array({30.0, 1.0}));
+    CHECK(hs.at("supports").at("gravity") == "in the plane, toward the drawing's bottom");
+    CHECK(hung.at("thickness_mm") == 1.0);
+    CHECK(hs.at("max_von_mises_after_mpa").get<double>() < 0.01 * flat.at("structure").at("max_von_mises_after_mpa").get<double>());
+    // A softer material under 30 kPa with a bound of 1.1 mm: reinforcement stops there and says what is still weak.
+    const json capped = run_with("filigree_capped", {"--material", "pa12", "--pressure", "30000", "--max-thickness", "1.1"});
+    const json& cs = capped.at("structure");
+    CHECK(cs.at("material") == "pa12");
+    CHECK(cs.at("yield_mpa") == 48.0);
+    CHECK(capped.at("thickness_mm").get<double>() <= 1.1);
+    CHECK(cs.at("strong") == false);
+    CHECK(cs.at("weak_nodes_final").get<std::size_t>() > 0);
+    CHECK(capped.at("weak_points_mm").size() == cs.at("weak_nodes_final").get<std::size_t>());
+    // The figures: the stress map (RGB, 1600 px across the domain's longer side plus its colour bar)
+    // and the histogram (1000 x 600 RGB).
+    const auto map = png_header(slurp(work_dir / "filigree_flat_stress.png"));
+    CHECK(map[2] == 2);
+    CHECK(map[0] > 1600);
+    CHECK(png_header(slurp(work_dir / "filigree_flat_histogram.png")) == std::array<int, 3>{1000, 600, 2});
+#if defined(FABSYNTH_HAS_LIB3MF)
+    // 3MF beside STL: the same triangles, in millimetres.
+    const std::string stl = slurp(work_dir / "filigree_flat.stl");
+    std::uint32_t stl_triangles = 0;
+    std::memcpy(&stl_triangles, stl.data() + 80, 4);
+    const fabsynth::triangle_mesh m = fabsynth::io::read_3mf((work_dir / "filigree_flat.3mf").string());
+    CHECK(m.faces.size() == stl_triangles);
+#endif
+}
+
 TEST_CASE("filigree: bad input is refused with the documented exit code and nothing written", "[cli][filigree]") {
     const std::string el = (data_dir / "filigree/spiral.svg").string();
     const std::string out = (work_dir / "filigree_bad.svg").string();
@@ -208,6 +274,15 @@ TEST_CASE("filigree: bad input is refused with the documented exit code and noth
              {"field image without scales", args({"--rect", "50", "50", "--field-image", (data_dir / "filigree/gradient_field.png").string()}), 2,
               "--field-scale"},
              {"unknown material", args({"--rect", "50", "50", "--material", "gold"}), 2, "--material"},
+             {"unknown support edge", args({"--rect", "50", "50", "--support-edge", "middle"}), 2, "--support-edge"},
+             {"support box and hang", args({"--rect", "50", "50", "--support-box", "0", "0", "5", "5", "--hang", "1", "1"}), 2, "--hang"},
+             {"inverted support box", args({"--rect", "50", "50", "--support-box", "5", "0", "0", "5"}), 2, "--support-box"},
+             {"hang radius without hang", args({"--rect", "50", "50", "--hang-radius", "2"}), 2, "--hang"},
+             {"max thickness below the thickness", args({"--rect", "50", "50", "--max-thickness", "0.5"}), 2, "--max-thickness"},
+             {"support without structure", args({"--rect", "50", "50", "--no-structure", "--upright"}), 2, "--no-structure"},
+             {"rotation image without range", args({"--rect", "50", "50", "--rotation-image", (data_dir / "filigree/gradient_field.png").string()}), 2,
+              "--rotation-range"},
+             {"a hanging point off the piece", args({"--rect", "50", "50", "--hang", "500", "500"}), 2, "hanging point"},
          })
         check_case("filigree", c);
     CHECK_FALSE(fs::exists(out));

@@ -72,6 +72,20 @@ struct isotropic_material {
     /// modulus 2200 MPa (XZ), specific gravity 1.04; nu = 0.35 is the usual handbook value for ABS).
     /// Values recalled from these sources, not re-measured.
     static isotropic_material abs() { return {2200.0, 0.35, 1.04e-9}; }
+    /// PETG (lamp shades, outdoor parts): E = 2100 MPa, nu = 0.38, 1.27 g/cm^3. E and density as on
+    /// typical PETG filament data sheets (tensile modulus 2.0-2.2 GPa, 1.27 g/cm^3); filament sheets
+    /// rarely state nu, 0.38 is the handbook value of PET. Recalled, not re-measured.
+    static isotropic_material petg() { return {2100.0, 0.38, 1.27e-9}; }
+    /// PA12 laser-sintered (nylon jewellery and lamp parts): E = 1650 MPa, nu = 0.39, 0.93 g/cm^3:
+    /// EOS PA 2200 data sheet (tensile modulus 1650 MPa, density of laser-sintered parts 0.93
+    /// g/cm^3); nu = 0.39 is the handbook value of polyamide 12. Recalled, not re-measured.
+    static isotropic_material pa12() { return {1650.0, 0.39, 0.93e-9}; }
+    /// Stainless steel 316L (laser-melted or binder-jet jewellery): E = 193 GPa, nu = 0.30,
+    /// 8.0 g/cm^3: the handbook values of wrought 316L (ASM; nu 0.27-0.30). Recalled, not re-measured.
+    static isotropic_material steel_316l() { return {193000.0, 0.30, 8.0e-9}; }
+    /// Titanium Ti-6Al-4V (laser-melted jewellery): E = 113.8 GPa, nu = 0.342, 4.43 g/cm^3: ASM's
+    /// values for annealed Ti-6Al-4V. Recalled, not re-measured.
+    static isotropic_material ti64() { return {113800.0, 0.342, 4.43e-9}; }
 
     friend bool operator==(const isotropic_material&, const isotropic_material&) = default;
 };

@@ -20,6 +20,7 @@
 ///   f.outline();     // the printable piece, polygons with holes in the domain's frame (y down, mm)
 ///   f.mesh;          // watertight extrusion of f.reinforcement.thickness mm, y flipped (print = drawing)
 ///   f.preview;       // grey-level picture of the outline over f.view; f.steps: Fig. 8's four stages
+///   f.stress_map;    // Fig. 10 (RGB); f.histogram: Fig. 21 (with the structural optimization)
 ///   f.instances_per_class;  f.seconds.total;
 ///
 /// Parameters of both forms:
@@ -54,6 +55,7 @@
 #include "fabsynth/core/image.hpp"
 #include "fabsynth/core/progress.hpp"
 #include "fabsynth/filigree/appearance.hpp"
+#include "fabsynth/filigree/figures.hpp"
 #include "fabsynth/filigree/reconstruct.hpp"
 #include "fabsynth/filigree/reinforcement.hpp"
 #include "fabsynth/filigree/synthesis.hpp"
@@ -89,6 +91,8 @@ struct planar_filigree {
     box2 view;                           ///< the domain's bounds framed by 2% (the SVG's and the previews' view box, mm)
     image8 preview;                      ///< grey levels, 1600 px along the view's longer side
     image8 steps;                        ///< Fig. 8: after initialization, the first placement, the rounds, the topology cut, side by side
+    image8 stress_map;                   ///< Fig. 10: von Mises stress at the final thickness over the view (RGB; empty without analysis)
+    image8 histogram;                    ///< Fig. 21: nodal stress before and after §5 (RGB; empty without analysis)
     std::vector<std::size_t> instances_per_class;  ///< of the final layout (reinforcement.instances), per class
     appearance_report appearance;        ///< crossings, overlap and free ends of the final skeletons inside the domain (appearance.hpp)
     filigree_timings seconds;
@@ -138,6 +142,8 @@ template <control_field F, progress_callback P = no_progress>
     dp::check_weights(classes, weights);
     planar_filigree r;
 
+    detail::reinforce::check_thickness(opt.reinforcement);  // bad structure options fail before the synthesis
+    if (opt.reinforcement.enabled) (void)detail::reinforce::planar_structure_options(opt.reinforcement, 1.0);
     report_progress(progress, 0.0, "synthesis");
     r.synthesis = synthesize_pattern(classes, weights, domain, field, opt.synthesis, progress_span(progress, 0.0, 0.6));
     r.seconds.synthesis = r.synthesis.seconds;
@@ -161,6 +167,10 @@ template <control_field F, progress_callback P = no_progress>
     if (opt.previews) {
         r.preview = preview_image(r.reinforcement.outline, r.view, {.max_side = 1600, .supersample = 4});
         r.steps = dp::steps_image(classes, r.synthesis, domain, r.view);
+        if (r.reinforcement.analysed) {
+            r.stress_map = stress_map_image(r.reinforcement.fem, r.reinforcement.final_report, r.view);
+            r.histogram = stress_histogram_plot(r.reinforcement);
+        }
     }
     r.seconds.previews = dp::since(t);
 

@@ -42,10 +42,27 @@
 
 namespace fabsynth::filigree {
 
+/// How a flat piece is held and which way its weight pulls (planar form; on a base surface the
+/// supports are the lowest 5% along `up` and these must stay at their defaults). Positions in mm, in
+/// the domain's frame (y down, as drawn). At most one of box and hang.
+struct planar_support {
+    support_side side = support_side::top;  ///< clamp the band of `fraction` of the piece's bounding box on this side
+    double fraction = 0.05;                 ///< in [0, 1]
+    std::optional<box2> box;                ///< instead: clamp the nodes inside this box
+    std::optional<vec2> hang;               ///< instead: clamp the nodes within hang_radius of this point (an eyelet)
+    double hang_radius = 0;                 ///< mm; 0: the median strip width
+    bool upright = false;                   ///< gravity in the plane toward the drawing's bottom (+y) instead of out of it (-z)
+};
+
 struct reinforcement_options {
     bool enabled = true;                 ///< false: strips only, no FEM
     material_preset material = material_preset::abs;
     double thickness = 1.0;              ///< initial shell / extrusion thickness, mm
+    /// Thickest the piece may get, mm; 0: no bound (phase 2 thickens, at most 30 x 10%, until no node
+    /// is weak, else solver_error). With a bound, phase 2 stops at the last step <= it and the record
+    /// says whether weak nodes remain (structural_record::strong, weak_nodes_final) instead of failing.
+    double max_thickness = 0;
+    planar_support support;              ///< where the flat piece is held (planar form only)
     double pressure_pa = 1000.0;         ///< external pressure, Pa (§5)
     double weak_limit = 0.005;           ///< phase 1 target: weak nodes / nodes (§5: 0.5%)
     int max_insertion_rounds = 3;
@@ -72,6 +89,8 @@ struct structural_record {
     std::vector<double> weak_fraction_phase1;    ///< per analysis of phase 1 (first = before)
     std::vector<std::size_t> inserted_per_round; ///< elements added per phase-1 round
     std::vector<double> thickness_phase2, weak_fraction_phase2;
+    bool strong = true;                       ///< no node is weak at the final thickness (false only under max_thickness)
+    std::size_t weak_nodes_final = 0;         ///< nodes above the yield stress at the final thickness
     double max_von_mises_before = 0, max_von_mises_after = 0;  ///< MPa
     std::size_t fem_nodes = 0;
     std::string solver;
@@ -84,6 +103,9 @@ struct reinforcement_result : structural_record {
     std::vector<graph::skeleton_graph<vec2>> skeletons;  ///< of the final layout after its topology cut (world mm)
     std::vector<polygon_with_holes> outline;  ///< the printable piece (mm), one polygon with holes
     std::size_t components = 0;               ///< connected pieces of the final outline (1)
+    fem_triangulation fem;                    ///< the FEM triangulation of the final outline (empty without analysis)
+    structural_report final_report;           ///< the last analysis (stresses per fem vertex; empty without analysis)
+    std::vector<vec2> weak_points;            ///< positions of the nodes still weak at the final thickness (mm)
 };
 
 /// The two phases of §5, once for both forms (see the file comment). `layout` is the form's
@@ -97,7 +119,8 @@ struct reinforcement_result : structural_record {
 /// report their own loops through the span they are given.
 /// Phase 1 keeps a round only if it lowers the weak fraction (else the previous layout stays and
 /// the phase ends). Fills r's analyses and phases (not fem_nodes, which each form counts);
-/// throws solver_error when weak nodes remain after thickening.
+/// throws solver_error when weak nodes remain after thickening, unless opt.max_thickness bounds it
+/// (then r.strong is false and r.weak_nodes_final counts them).
 template <class Layout, class Analyse, class Grow, class Thicken>
 void reinforcement_loop(Layout& layout, structural_record& r, const reinforcement_options& opt, Analyse&& analyse, Grow&& grow,
                         Thicken&& thicken, const progress_span& progress = {}) {
@@ -124,7 +147,10 @@ void reinforcement_loop(Layout& layout, structural_record& r, const reinforcemen
     }
     // Phase 2: +10% thickness per iteration until no node is weak.
     const thickening_result th = thicken(std::as_const(layout), r.thickness, progress.part(0.6, 1.0));
-    if (!th.converged) throw solver_error("filigree: weak nodes remain after thickening to " + std::to_string(th.thickness) + " mm");
+    if (!th.converged && !(opt.max_thickness > 0))
+        throw solver_error("filigree: weak nodes remain after thickening to " + std::to_string(th.thickness) + " mm");
+    r.strong = th.converged;
+    r.weak_nodes_final = th.report.weak_nodes.size();
     r.thickness = th.thickness;
     r.thickness_phase2 = th.thickness_history;
     r.weak_fraction_phase2 = th.weak_fraction_history;
@@ -255,6 +281,54 @@ inline std::vector<polygon_with_holes> one_piece(const std::vector<graph::skelet
     return w[w.size() / 2];
 }
 
+// The options of both forms' reinforcement that every form checks (thickness bounds).
+inline void check_thickness(const reinforcement_options& opt) {
+    require_positive(opt.thickness, "reinforce: thickness (mm)");
+    if (!(std::isfinite(opt.max_thickness) && opt.max_thickness >= 0))
+        throw invalid_input("reinforce: max_thickness must be finite and >= 0 mm (0: no bound), got " + std::to_string(opt.max_thickness));
+    if (opt.max_thickness > 0 && opt.thickness > opt.max_thickness)
+        throw invalid_input("reinforce: the thickness " + std::to_string(opt.thickness) + " mm exceeds max_thickness " +
+                            std::to_string(opt.max_thickness) + " mm");
+}
+
+// The analysis options of the planar form: material, pressure and opt.support (validated here, by
+// name). `median_width`: the default radius of a hanging point (mm).
+[[nodiscard]] inline structure_options planar_structure_options(const reinforcement_options& opt, double median_width) {
+    const planar_support& ps = opt.support;
+    structure_options sopt;
+    sopt.material = preset_material(opt.material);
+    sopt.pressure_pa = opt.pressure_pa;
+    sopt.side = ps.side;
+    sopt.support_fraction = ps.fraction;
+    if (ps.box && ps.hang) throw invalid_input("reinforce: support: give at most one of box and hang");
+    if (ps.box) {
+        const box2 b = *ps.box;
+        if (!(std::isfinite(b.lo.x) && std::isfinite(b.lo.y) && std::isfinite(b.hi.x) && std::isfinite(b.hi.y)) || b.empty())
+            throw invalid_input("reinforce: support box must be finite with lo <= hi (mm)");
+        sopt.support = [b](const vec2& p) { return b.contains(p); };
+        sopt.support_description = "the support box [" + std::to_string(b.lo.x) + ", " + std::to_string(b.hi.x) + "] x [" +
+                                   std::to_string(b.lo.y) + ", " + std::to_string(b.hi.y) + "] mm";
+    }
+    if (ps.hang) {
+        const vec2 c = *ps.hang;
+        if (!(std::isfinite(c.x) && std::isfinite(c.y))) throw invalid_input("reinforce: support hang point must be finite (mm)");
+        if (!(std::isfinite(ps.hang_radius) && ps.hang_radius >= 0))
+            throw invalid_input("reinforce: support hang_radius must be finite and >= 0 mm (0: the median strip width)");
+        const double rad = ps.hang_radius > 0 ? ps.hang_radius : median_width;
+        sopt.support = [c, rad](const vec2& p) { return glm::distance(p, c) <= rad; };
+        sopt.support_description = "the hanging point (" + std::to_string(c.x) + ", " + std::to_string(c.y) + ") mm, radius " +
+                                   std::to_string(rad) + " mm: put it on a strip or enlarge the radius";
+    }
+    if (ps.upright) sopt.gravity_down = {0.0, 1.0, 0.0};
+    sopt.validate();
+    return sopt;
+}
+
+// planar_support at its defaults (what the surface form requires: its supports follow `up`).
+[[nodiscard]] inline bool default_support(const planar_support& ps) {
+    return ps.side == support_side::top && ps.fraction == 0.05 && !ps.box && !ps.hang && ps.hang_radius == 0 && !ps.upright;
+}
+
 }  // namespace detail::reinforce
 
 /// Strips, one piece and the structural optimization (see the file comment) of a synthesized
@@ -264,7 +338,7 @@ template <control_field F>
                                              const F& field, const synthesis_options& so, const synthesis_result& syn,
                                              const reinforcement_options& opt = {}, const progress_span& progress = {}) {
     namespace dr = detail::reinforce;
-    require_positive(opt.thickness, "reinforce: thickness (mm)");
+    dr::check_thickness(opt);
     const auto t0 = std::chrono::steady_clock::now();
     reinforcement_result r;
     r.instances = syn.instances;
@@ -279,9 +353,7 @@ template <control_field F>
     keep_book(book);
     if (opt.enabled) {
         const double h = opt.mesh_edge > 0 ? opt.mesh_edge : 0.6 * dr::median_width(classes);
-        structure_options sopt;
-        sopt.material = preset_material(opt.material);
-        sopt.pressure_pa = opt.pressure_pa;
+        const structure_options sopt = dr::planar_structure_options(opt, dr::median_width(classes));
         r.yield_mpa = sopt.material.yield_mpa;
         r.histogram_bin_mpa = sopt.histogram_bin_mpa;
         struct layout {
@@ -315,8 +387,11 @@ template <control_field F>
                 return next;
             },
             [&](const layout& l, double t, const progress_span& thicken_progress) {
-                thickening_result th = thicken_until_strong(l.tri, t, sopt, {}, thicken_progress);
+                thickening_result th = thicken_until_strong(l.tri, t, sopt, {.max_thickness = opt.max_thickness}, thicken_progress);
                 r.fem_nodes = th.report.node_positions.size();
+                r.fem = l.tri;
+                r.final_report = th.report;
+                for (const std::uint32_t n : th.report.weak_nodes) r.weak_points.push_back(th.report.node_positions[n]);
                 return th;
             },
             progress);

@@ -15,7 +15,10 @@
 /// support_fraction (5%) of the bounding-box height above the lowest y, i.e. the piece is held at
 /// its lowest 5% like a horizontal cantilever plate; it carries its self weight (density x
 /// 9.81 m/s^2 per volume, -z) and a uniform pressure p on every element (-z, default 1 kPa: a hand
-/// pressing on the piece). Both act out of plane, so the piece works in plate bending. Units: the
+/// pressing on the piece). Both act out of plane, so the piece works in plate bending. Other ways
+/// to hold it: structure_options::support (any set of nodes: an edge, a box, a hanging point) and
+/// gravity_down (e.g. (0, 1, 0): the piece hangs upright in its plane and its weight pulls toward
+/// the drawing's bottom, a membrane load; the pressure stays out of plane). Units: the
 /// fem module's mm, N, MPa, t/mm^3; p [Pa] enters as p * 1e-6 MPa, g [m/s^2] as g * 1e3 mm/s^2.
 ///
 /// Nodal stress: fem::nodal_von_mises (fem/stress.hpp), eq. (5) of §5 at each node: the MEAN over
@@ -47,6 +50,7 @@
 #include <map>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -65,8 +69,10 @@
 
 namespace fabsynth::filigree {
 
-/// The printing plastics of §5 ("commonly used printing materials, typically ABS or PLA").
-enum class material_preset { abs, pla };
+/// The printed materials: the plastics of §5 ("commonly used printing materials, typically ABS or
+/// PLA"), and more for lamps and jewellery (PETG, laser-sintered PA12, laser-melted 316L steel and
+/// Ti-6Al-4V). Names: material_name / parse_material.
+enum class material_preset { abs, pla, petg, pa12, steel_316l, ti64 };
 
 /// Elastic constants and yield stress of the printed material.
 struct structure_material {
@@ -75,24 +81,71 @@ struct structure_material {
 };
 
 /// The presets. Elastic constants are the fem module's (fem/material.hpp states their data-sheet
-/// sources: ABS E 2200 MPa, nu 0.35, 1.04 g/cm^3; PLA E 3500 MPa, nu 0.36, 1.24 g/cm^3), so that one
-/// ABS exists in the library. Yield: ABS 40 MPa is the paper's value (§8.3.1: "The yield stress of
-/// the plastic material used in our models is 40MPa"), inside the 35-45 MPa of typical ABS data
-/// sheets; PLA 50 MPa is a typical data-sheet tensile yield of PLA (about 50-60 MPa; printed parts
-/// are weaker across layers). Data-sheet values, not measurements.
+/// sources), so that one ABS exists in the library. Yield stresses, data-sheet values, not
+/// measurements:
+///   ABS   40 MPa: the paper's value (§8.3.1: "The yield stress of the plastic material used in our
+///         models is 40MPa"), inside the 35-45 MPa of typical ABS data sheets;
+///   PLA   50 MPa: a typical data-sheet tensile yield of PLA (about 50-60 MPa; printed parts are
+///         weaker across layers);
+///   PETG  50 MPa: typical PETG filament data sheets (tensile yield 45-53 MPa);
+///   PA12  48 MPa: EOS PA 2200's tensile strength (the sheet gives no separate yield stress, and
+///         PA12 yields close to it);
+///   316L 170 MPa: ASTM A240's minimum 0.2% proof stress of annealed 316L (laser-melted parts are
+///         stronger, so this is on the safe side);
+///   Ti-6Al-4V 880 MPa: ASM's typical yield of annealed Ti-6Al-4V.
 [[nodiscard]] inline structure_material preset_material(material_preset p) {
-    return p == material_preset::pla ? structure_material{fem::isotropic_material::pla(), 50.0}
-                                      : structure_material{fem::isotropic_material::abs(), 40.0};
+    switch (p) {
+        case material_preset::pla: return {fem::isotropic_material::pla(), 50.0};
+        case material_preset::petg: return {fem::isotropic_material::petg(), 50.0};
+        case material_preset::pa12: return {fem::isotropic_material::pa12(), 48.0};
+        case material_preset::steel_316l: return {fem::isotropic_material::steel_316l(), 170.0};
+        case material_preset::ti64: return {fem::isotropic_material::ti64(), 880.0};
+        case material_preset::abs: break;
+    }
+    return {fem::isotropic_material::abs(), 40.0};
 }
+
+namespace detail::structure {
+inline constexpr std::pair<material_preset, const char*> material_names[] = {
+    {material_preset::abs, "abs"},   {material_preset::pla, "pla"},         {material_preset::petg, "petg"},
+    {material_preset::pa12, "pa12"}, {material_preset::steel_316l, "316l"}, {material_preset::ti64, "ti64"}};
+}  // namespace detail::structure
+
+/// The preset's name: "abs", "pla", "petg", "pa12", "316l", "ti64".
+[[nodiscard]] inline std::string material_name(material_preset p) {
+    for (const auto& [m, name] : detail::structure::material_names)
+        if (m == p) return name;
+    return "abs";
+}
+
+/// The preset of a name of material_name (case-sensitive); throws invalid_input listing the names.
+[[nodiscard]] inline material_preset parse_material(std::string_view name) {
+    std::string known;
+    for (const auto& [m, n] : detail::structure::material_names) {
+        if (name == n) return m;
+        known += known.empty() ? n : std::string(", ") + n;
+    }
+    throw invalid_input("material must be one of " + known + ", got '" + std::string(name) + "'");
+}
+
+/// A side of the flat piece's bounding box, as drawn (domain frame, y down: top = smallest y).
+enum class support_side { top, bottom, left, right };
 
 /// Load case, material and solver of the analysis (see the file comment).
 struct structure_options {
     structure_material material = preset_material(material_preset::abs);
     double pressure_pa = 1000.0;    ///< uniform pressure on every element [Pa], pushing -z; finite (0 = none)
-    double gravity_m_s2 = 9.81;     ///< self-weight acceleration [m/s^2], acting -z; finite (0 = none)
-    double support_fraction = 0.05; ///< clamp nodes with y <= y_min + fraction * (y_max - y_min), in [0, 1]
+    double gravity_m_s2 = 9.81;     ///< self-weight acceleration [m/s^2]; finite (0 = none)
+    /// Direction gravity acts in (unit length after normalization): -z, the piece lies flat; (0, 1, 0),
+    /// the piece stands or hangs upright in its plane, gravity toward the drawing's bottom (y down).
+    vec3 gravity_down{0.0, 0.0, -1.0};
+    /// Clamp the nodes within support_fraction of the bounding box's extent from this side (top:
+    /// y <= y_min + fraction * (y_max - y_min); bottom, left, right alike), fraction in [0, 1].
+    support_side side = support_side::top;
+    double support_fraction = 0.05;
     /// If set, replaces support_fraction: the nodes whose position [mm] it accepts are clamped.
     std::function<bool(const vec2&)> support{};
+    std::string support_description{};  ///< names the support region in the error when no node lies in it
     double histogram_bin_mpa = 5.0; ///< bin width of the stress histogram [MPa], > 0
     fem::solve_options solver{};    ///< fem's default: automatic method choice
 
@@ -103,6 +156,8 @@ struct structure_options {
             throw invalid_input("structure: yield stress must be finite and > 0 MPa, got " + std::to_string(material.yield_mpa));
         if (!std::isfinite(pressure_pa)) throw invalid_input("structure: pressure must be finite (Pa)");
         if (!std::isfinite(gravity_m_s2)) throw invalid_input("structure: gravity must be finite (m/s^2)");
+        if (!(std::isfinite(glm::length(gravity_down)) && glm::length(gravity_down) > 0))
+            throw invalid_input("structure: the gravity direction must be finite and not zero");
         if (!(support_fraction >= 0.0 && support_fraction <= 1.0))
             throw invalid_input("structure: support fraction must lie in [0, 1], got " + std::to_string(support_fraction));
         if (!(std::isfinite(histogram_bin_mpa) && histogram_bin_mpa > 0))
@@ -142,8 +197,8 @@ struct structural_report {
     return m;
 }
 
-/// The clamped nodes (ascending): opt.support if set, else the lowest support_fraction of the
-/// bounding-box height (nodes of some triangle only). Throws invalid_input if there is none.
+/// The clamped nodes (ascending): opt.support if set, else the band of support_fraction of the
+/// bounding box along opt.side (nodes of some triangle only). Throws invalid_input if there is none.
 [[nodiscard]] inline std::vector<std::uint32_t> support_nodes(const fem_triangulation& tri, const structure_options& opt) {
     std::vector<char> used(tri.mesh.vertices.size(), 0);
     for (const auto& t : tri.mesh.triangles)
@@ -151,21 +206,27 @@ struct structural_report {
     box2 b;
     for (std::size_t i = 0; i < used.size(); ++i)
         if (used[i]) b.extend(tri.mesh.vertices[i]);
-    const double height = b.size().y;
-    const double limit = b.lo.y + opt.support_fraction * height + 1e-9 * height;  // fraction 0: the lowest edge
+    const bool vertical = opt.side == support_side::top || opt.side == support_side::bottom;
+    const int axis = vertical ? 1 : 0;
+    const double extent = b.size()[axis];
+    const double band = opt.support_fraction * extent + 1e-9 * extent;  // fraction 0: the extreme edge
+    const bool low = opt.side == support_side::top || opt.side == support_side::left;
     std::vector<std::uint32_t> out;
     for (std::uint32_t i = 0; i < used.size(); ++i) {
         if (!used[i]) continue;
         const vec2 p = tri.mesh.vertices[i];
-        if (opt.support ? opt.support(p) : p.y <= limit) out.push_back(i);
+        const bool in_band = low ? p[axis] <= b.lo[axis] + band : p[axis] >= b.hi[axis] - band;
+        if (opt.support ? opt.support(p) : in_band) out.push_back(i);
     }
-    if (out.empty()) throw invalid_input("structure: no node lies in the support region (nothing holds the piece)");
+    if (out.empty())
+        throw invalid_input("structure: no node lies in the support region" +
+                            (opt.support_description.empty() ? std::string() : " (" + opt.support_description + ")") + " (nothing holds the piece)");
     return out;
 }
 
 /// The load case of the file comment on model m: all six DOFs of `supports` fixed, gravity and
 /// pressure on every element.
-/// `down`: the unit direction gravity acts in (-z for the flat piece; -up on a base surface).
+/// `down`: the unit direction gravity acts in (opt.gravity_down for the flat piece; -up on a base surface).
 [[nodiscard]] inline fem::load_case structural_load_case(const fem::mesh& m, std::span<const std::uint32_t> supports,
                                                          const structure_options& opt, vec3 down = {0, 0, -1}) {
     fem::load_case lc;
@@ -281,7 +342,7 @@ inline structural_report summarize(std::vector<vec2> positions, const fem::mesh&
     opt.validate();
     const fem::mesh m = shell_model(tri, thickness, opt.material);
     std::vector<std::uint32_t> supports = support_nodes(tri, opt);
-    const fem::load_case lc = structural_load_case(m, supports, opt);
+    const fem::load_case lc = structural_load_case(m, supports, opt, glm::normalize(opt.gravity_down));
     const fem::static_result r = detail::structure::solve_checked(m, lc, opt.solver);
     return detail::structure::summarize(tri.mesh.vertices, m, r, thickness, std::move(supports), opt);
 }
@@ -340,6 +401,9 @@ template <class P>
 struct thickening_options {
     double growth = 1.1;      ///< thickness factor per iteration (the paper's 10%), > 1
     int max_iterations = 30;  ///< bound on the number of increases, >= 0
+    /// Largest thickness analysed [mm]; 0: no bound but max_iterations. Phase 2 stops at the last
+    /// t0 * growth^k <= max_thickness (t0 itself must not exceed it).
+    double max_thickness = 0;
 };
 
 /// Outcome of phase 2. history[k] is the analysis at thickness t0 * growth^k.
@@ -359,9 +423,15 @@ template <class Analyse>
     require_positive(thickness, "thicken_until_strong: thickness (mm)");
     if (!(std::isfinite(topt.growth) && topt.growth > 1.0)) throw invalid_input("thicken_until_strong: growth must be finite and > 1");
     if (topt.max_iterations < 0) throw invalid_input("thicken_until_strong: max_iterations must be >= 0");
+    if (!(std::isfinite(topt.max_thickness) && topt.max_thickness >= 0))
+        throw invalid_input("thicken_until_strong: max_thickness must be finite and >= 0 mm (0: none)");
+    if (topt.max_thickness > 0 && thickness > topt.max_thickness)
+        throw invalid_input("thicken_until_strong: the thickness " + std::to_string(thickness) + " mm exceeds the maximum thickness " +
+                            std::to_string(topt.max_thickness) + " mm");
     thickening_result out;
     for (int k = 0;; ++k) {
         const double t = thickness * std::pow(topt.growth, k);
+        if (k > 0 && topt.max_thickness > 0 && t > topt.max_thickness * (1 + 1e-12)) return out;  // the bound: stop, weak nodes remain
         progress(static_cast<double>(k) / (topt.max_iterations + 1), "thickening");
         out.report = analyse(t);
         out.thickness = t;
@@ -379,7 +449,8 @@ template <class Analyse>
 
 /// Phase 2 of §5: analyses at t0, and while weak nodes remain multiplies the thickness by
 /// opt.growth (t_k = t0 * growth^k, computed by a power, so no drift) and analyses again, at most
-/// opt.max_iterations times. Throws what analyse_structure throws, and invalid_input for bad options.
+/// opt.max_iterations times and never above topt.max_thickness (when set). Throws what
+/// analyse_structure throws, and invalid_input for bad options.
 [[nodiscard]] inline thickening_result thicken_until_strong(const fem_triangulation& tri, double thickness, const structure_options& opt = {},
                                                             const thickening_options& topt = {}, const progress_span& progress = {}) {
     return thicken_with([&](double t) { return analyse_structure(tri, t, opt); }, thickness, topt, progress);

@@ -111,6 +111,7 @@ struct surface_filigree {
     triangle_mesh solid;                         ///< printable: every point within half the thickness of M_b (eq. 9), watertight
     std::size_t solid_components = 0;            ///< connected pieces of `solid`
     image8 preview;                              ///< RGB, two 800 x 800 views: the base mesh with the solid, from the side and the opposite side
+    image8 histogram;                            ///< Fig. 21: nodal stress before and after §5 (RGB; empty without analysis)
     std::vector<std::size_t> instances_per_class;  ///< of the synthesized layout (synthesis.instances, before §5's insertions), per class
     filigree_timings seconds;
 };
@@ -152,6 +153,9 @@ template <progress_callback P = no_progress>
     namespace dp = detail::pipeline;
     const auto t_start = dp::clock::now();
     dp::check_weights(classes, weights);
+    detail::reinforce::check_thickness(opt.reinforcement);  // bad structure options fail before the synthesis
+    if (!detail::reinforce::default_support(opt.reinforcement.support))
+        throw invalid_input("filigree on a surface: `support` is the planar form's; the supports are the lowest 5% along `up`");
     surface_filigree r;
 
     report_progress(progress, 0.05, "synthesis on the surface");
@@ -178,6 +182,7 @@ template <progress_callback P = no_progress>
     report_progress(progress, 0.9, "render");
     t = dp::clock::now();
     if (opt.previews) r.preview = dp::surface_preview(base.mesh(), r.solid, opt.up);
+    if (opt.previews && r.reinforcement.analysed) r.histogram = stress_histogram_plot(r.reinforcement);
     r.seconds.previews = dp::since(t);
 
     r.instances_per_class.assign(classes.size(), 0);

@@ -180,7 +180,9 @@ namespace detail::surface {
                                                                        const synthesis_options& so, const surface_synthesis_result& syn,
                                                                        const surface_reinforcement_options& opt = {}, const progress_span& progress = {}) {
     namespace ds = detail::surface;
-    require_positive(opt.base.thickness, "reinforce: thickness (mm)");
+    detail::reinforce::check_thickness(opt.base);
+    if (!detail::reinforce::default_support(opt.base.support))
+        throw invalid_input("reinforce_on_surface: `support` is the planar form's; on a base surface the supports are the lowest 5% along `up`");
     const auto t0 = std::chrono::steady_clock::now();
     surface_reinforcement_result r;
     r.instances = syn.instances, r.skeletons = syn.skeletons, r.thickness = opt.base.thickness;
@@ -228,8 +230,8 @@ namespace detail::surface {
                 return next;
             },
             [&](const layout& l, double t, const progress_span& thicken_progress) {
-                return thicken_with([&](double tt) { return analyse_surface_structure(l.fem, tt, opt.up, sopt); }, t, thickening_options{},
-                                    thicken_progress);
+                return thicken_with([&](double tt) { return analyse_surface_structure(l.fem, tt, opt.up, sopt); }, t,
+                                    thickening_options{.max_thickness = opt.base.max_thickness}, thicken_progress);
             },
             progress);
         r.instances = std::move(best.instances), r.skeletons = std::move(best.skeletons), r.baked = std::move(best.baked);
