@@ -1,7 +1,7 @@
 // filigree: synthesis of filigrees in a planar domain (Chen et al. 2016, "Synthesis of Filigrees for
 // Digital Fabrication"), from SVG elements to one connected, printable piece.
 //
-//   filigree --element E.svg [--element E2.svg[:WEIGHT] ...] (--rect W H | --domain D.svg)
+//   filigree --element E.svg[:WEIGHT][@G1,G2] [--element ...] [--labels L.png] (--rect W H | --domain D.svg)
 //            --scale MM [--width MM] [--rotation DEG | --field-image F.png --field-scale S0 S1]
 //            [--rotation-image R.png --rotation-range A0 A1] [--thickness MM] [--max-thickness MM]
 //            [--material abs|pla|petg|pa12|316l|ti64] [--support-edge SIDE | --support-box X0 Y0 X1 Y1 | --hang X Y]
@@ -40,6 +40,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
+#include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -64,11 +66,32 @@ namespace {
 struct element_arg {
     std::string path;
     double weight = 1.0;
+    std::vector<int> labels;  // grey levels of --labels where the class may lie; empty: everywhere
 };
 
-// "E.svg" or "E.svg:WEIGHT" (a path may itself contain ':' only if a weight follows).
-element_arg parse_element(const std::string& a) {
-    element_arg e{a, 1.0};
+// "E.svg", "E.svg:WEIGHT", "E.svg@G1,G2" or "E.svg:WEIGHT@G1,G2" (a path may itself contain ':' only
+// if a weight follows, '@' only if labels follow).
+element_arg parse_element(std::string a) {
+    element_arg e{a, 1.0, {}};
+    if (const std::size_t at = a.rfind('@'); at != std::string::npos) {
+        std::vector<int> labels;
+        std::string list = a.substr(at + 1);
+        bool ok = !list.empty();
+        for (std::size_t from = 0; ok && from <= list.size();) {
+            const std::size_t comma = std::min(list.find(',', from), list.size());
+            const std::string item = list.substr(from, comma - from);
+            char* end = nullptr;
+            const long v = std::strtol(item.c_str(), &end, 10);
+            ok = !item.empty() && end && *end == '\0' && v >= 0 && v <= 255;
+            if (ok) labels.push_back(static_cast<int>(v));
+            from = comma + 1;
+        }
+        if (ok) {  // else the '@' is part of the file name
+            e.labels = std::move(labels);
+            a = a.substr(0, at);
+            e.path = a;
+        }
+    }
     const std::size_t colon = a.rfind(':');
     if (colon != std::string::npos && colon + 1 < a.size()) {
         const std::string w = a.substr(colon + 1);
@@ -82,9 +105,32 @@ element_arg parse_element(const std::string& a) {
     return e;
 }
 
+// Element sets per region: class c may lie at p when it has no labels or the label picture (nearest
+// pixel, stretched over `extent`) has one of its grey levels there. Every label must occur in the picture.
+std::function<bool(std::uint32_t, vec2)> label_regions(image8 picture, const std::string& name, const box2& extent,
+                                                       const std::vector<element_arg>& elements) {
+    std::array<bool, 256> present{};
+    for (const std::uint8_t v : picture.data) present[v] = true;
+    std::vector<std::array<bool, 256>> allowed(elements.size());
+    for (std::size_t c = 0; c < elements.size(); ++c) {
+        allowed[c].fill(elements[c].labels.empty());
+        for (const int g : elements[c].labels) {
+            if (!present[static_cast<std::size_t>(g)])
+                throw invalid_input("--element " + elements[c].path + "@" + std::to_string(g) + ": no pixel of " + name + " has grey level " + std::to_string(g));
+            allowed[c][static_cast<std::size_t>(g)] = true;
+        }
+    }
+    return [picture = std::move(picture), extent, allowed = std::move(allowed)](std::uint32_t cls, vec2 p) {
+        const vec2 f = (p - extent.lo) / (extent.hi - extent.lo);
+        const int x = std::clamp(static_cast<int>(std::floor(f.x * picture.width)), 0, picture.width - 1);
+        const int y = std::clamp(static_cast<int>(std::floor(f.y * picture.height)), 0, picture.height - 1);
+        return allowed[cls][picture.at(x, y)];
+    };
+}
+
 // The --mesh form's inputs.
 struct surface_request {
-    std::string mesh, region, region_curve, scale_file;
+    std::string mesh, region, region_curve, scale_file, directions;
     std::vector<double> up{0, 0, 1};
     double mesh_size = 0;  // 0: the mesh is in mm as it is
 };
@@ -200,11 +246,14 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     const auto t_start = std::chrono::steady_clock::now();
     std::vector<element_arg> elements;
     for (const std::string& a : element_args) elements.push_back(parse_element(a));
+    for (const element_arg& e : elements)
+        if (!e.labels.empty()) throw invalid_input("--element " + e.path + "@...: element sets per region are for the planar form (--labels)");
     std::vector<fs::path> inputs{rq.mesh};
     for (const auto& e : elements) inputs.emplace_back(e.path);
     if (!rq.region.empty()) inputs.emplace_back(rq.region);
     if (!rq.region_curve.empty()) inputs.emplace_back(rq.region_curve);
     if (!rq.scale_file.empty()) inputs.emplace_back(rq.scale_file);
+    if (!rq.directions.empty()) inputs.emplace_back(rq.directions);
     const fs::path out(out_path);
     fs::path stl_out = out, obj_out = out, png_out = out, json_out = out, threemf_out = out;
     stl_out.replace_extension(".stl"), obj_out.replace_extension(".obj"), png_out.replace_extension(".png"), json_out.replace_extension(".json");
@@ -252,6 +301,17 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
         opt.region_curve = std::move(curve), opt.region_name = rq.region_curve;
     }
     if (!rq.scale_file.empty()) opt.vertex_scale = io::read_numbers(rq.scale_file);
+    if (!rq.directions.empty()) {  // rows "vertex dx dy dz"
+        const std::vector<double> v = io::read_numbers(rq.directions);
+        if (v.empty() || v.size() % 4 != 0)
+            throw invalid_input(rq.directions + ": expected rows of 4 numbers (vertex id, direction x y z), got " + std::to_string(v.size()) + " numbers");
+        for (std::size_t k = 0; k < v.size(); k += 4) {
+            if (v[k] < 0 || v[k] != std::floor(v[k]) || v[k] >= static_cast<double>(mesh.vertices.size()))
+                throw invalid_input(rq.directions + ": row " + std::to_string(k / 4 + 1) + ": vertex " + std::to_string(v[k]) +
+                                    " is not a vertex of the mesh (0.." + std::to_string(mesh.vertices.size() - 1) + ")");
+            opt.directions.push_back({static_cast<std::uint32_t>(v[k]), vec3(v[k + 1], v[k + 2], v[k + 3])});
+        }
+    }
     const surface_filigree_base base(std::move(mesh), opt);
     check_work(base.region().area, smallest_covering_area(classes, weights), opt, max_elements, "a region of ");
 
@@ -264,6 +324,7 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
         {"mode", "surface"},
         {"mesh", {{"file", rq.mesh}, {"vertices", base.mesh().vertices.size()}, {"faces", base.mesh().faces.size()},
                   {"region_faces", base.region().faces.size()}, {"region_area_mm2", base.region().area}}},
+        {"direction_constraints", opt.directions.size()},
         {"instances", syn.instances.size()},
         {"instances_per_class", f.instances_per_class},
         {"local_parameterizations", {{"built", syn.maps_built}, {"seconds_summed_over_threads", syn.map_seconds}}},
@@ -314,7 +375,7 @@ int main(int argc, char** argv) {
         "filigree"};
     tool::common common(app);
     std::vector<std::string> element_args;
-    std::string domain_path, field_image, rotation_image, material = "abs", support_edge, out_path;
+    std::string domain_path, field_image, rotation_image, labels_image, material = "abs", support_edge, out_path;
     std::vector<double> rect, field_scale, rotation_range, support_box, hang;
     double scale = 0, width = 0, rotation_deg = 0, thickness = 1.0, sigma_d = 0.15, sigma_f = 0.05, tolerance = 0.05;
     double pressure = 1000.0, max_thickness = 0, hang_radius = 0;
@@ -325,7 +386,7 @@ int main(int argc, char** argv) {
     double max_elements = 5000;
     bool no_structure = false;
     std::uint64_t seed = 1;
-    app.add_option("--element", element_args, "element SVG, optionally E.svg:WEIGHT (class proportion, default 1); repeatable")->required();
+    app.add_option("--element", element_args, "element SVG, optionally E.svg:WEIGHT (class proportion, default 1) and @G1,G2 (only where --labels has these grey levels); repeatable")->required();
     auto* o_rect = app.add_option("--rect", rect, "W H: rectangular domain of W x H mm")->expected(2);
     auto* o_domain = app.add_option("--domain", domain_path, "domain SVG: its filled shapes (with holes), user units = mm")->check(CLI::ExistingFile);
     o_rect->excludes(o_domain);
@@ -335,6 +396,10 @@ int main(int argc, char** argv) {
     auto* o_fimg = app.add_option("--field-image", field_image, "grayscale PNG over the domain's bounding box: element scale from black to white")
                        ->check(CLI::ExistingFile);
     app.add_option("--field-scale", field_scale, "S0 S1: scale factors at black and white of --field-image")->expected(2);
+    auto* o_labels = app.add_option("--labels", labels_image,
+                                    "grayscale PNG over the domain's bounding box: regions by grey level; an element given as E.svg@G1,G2 "
+                                    "is placed only where the picture is G1 or G2")
+                         ->check(CLI::ExistingFile);
     o_rot->excludes(o_fimg);
     auto* o_rimg = app.add_option("--rotation-image", rotation_image,
                                   "grayscale PNG over the domain's bounding box: element rotation from black to white (--rotation-range)")
@@ -372,17 +437,27 @@ int main(int argc, char** argv) {
     surface_request on_mesh;
     auto* o_mesh = app.add_option("--mesh", on_mesh.mesh, "base surface (OBJ, STL, PLY, 3MF): synthesize on it instead of a 2D domain")
                        ->check(CLI::ExistingFile);
-    app.add_option("--mesh-size", on_mesh.mesh_size, "scale the base mesh so its bounding box's largest side is this many mm (default: as is, mm)");
+    // the surface form's options need --mesh (the planar form would otherwise ignore them)
+    app.add_option("--mesh-size", on_mesh.mesh_size, "scale the base mesh so its bounding box's largest side is this many mm (default: as is, mm)")
+        ->needs(o_mesh);
     auto* o_region = app.add_option("--region", on_mesh.region, "text file of face ids (0-based) of the base mesh to cover (default: all)")
-                         ->check(CLI::ExistingFile);
+                         ->check(CLI::ExistingFile)
+                         ->needs(o_mesh);
     app.add_option("--region-curve", on_mesh.region_curve,
                    "CSV of x,y,z points (the mesh's units, before --mesh-size) of a closed curve on the base mesh, each within 2% of the "
                    "mesh's diagonal of it: cover the smaller side it encloses")
         ->check(CLI::ExistingFile)
-        ->excludes(o_region);
-    app.add_option("--up", on_mesh.up, "X Y Z: the elements' up vector, projected onto the surface (default 0 0 1)")->expected(3);
-    app.add_option("--field-scale-file", on_mesh.scale_file, "text file of one element scale factor per mesh vertex")->check(CLI::ExistingFile);
-    o_mesh->excludes(o_rect)->excludes(o_domain)->excludes(o_fimg)->excludes(o_rot)->excludes(o_rimg)->excludes(o_edge)->excludes(o_sbox)->excludes(o_hang);
+        ->excludes(o_region)
+        ->needs(o_mesh);
+    app.add_option("--up", on_mesh.up, "X Y Z: the elements' up vector, projected onto the surface (default 0 0 1)")->expected(3)->needs(o_mesh);
+    app.add_option("--field-scale-file", on_mesh.scale_file, "text file of one element scale factor per mesh vertex")
+        ->check(CLI::ExistingFile)
+        ->needs(o_mesh);
+    app.add_option("--directions", on_mesh.directions,
+                   "text file of rows 'vertex dx dy dz': element directions at mesh vertices, interpolated over the surface (default: --up)")
+        ->check(CLI::ExistingFile)
+        ->needs(o_mesh);
+    o_mesh->excludes(o_labels)->excludes(o_rect)->excludes(o_domain)->excludes(o_fimg)->excludes(o_rot)->excludes(o_rimg)->excludes(o_edge)->excludes(o_sbox)->excludes(o_hang);
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
@@ -425,6 +500,7 @@ int main(int argc, char** argv) {
         for (const auto& e : elements) inputs.emplace_back(e.path);
         if (!domain_path.empty()) inputs.emplace_back(domain_path);
         if (!field_image.empty()) inputs.emplace_back(field_image);
+        if (!labels_image.empty()) inputs.emplace_back(labels_image);
         if (!rotation_image.empty()) inputs.emplace_back(rotation_image);
         tool::check_outputs(inputs, {svg_out, stl_out, png_out, steps_out, json_out, threemf_out, stress_out, hist_out});
         for (const auto& e : elements)
@@ -467,12 +543,16 @@ int main(int argc, char** argv) {
         const fs::path stress_file = no_structure ? fs::path() : outputs.add(stress_out), hist_file = no_structure ? fs::path() : outputs.add(hist_out);
 
         progress(0.0, "read elements");
-        const planar_domain domain = rect.empty() ? planar_domain::from_svg(io::read_svg(domain_path, 0.01), domain_path)
+        planar_domain domain = rect.empty() ? planar_domain::from_svg(io::read_svg(domain_path, 0.01), domain_path)
                                                   : planar_domain::rectangle(tool::require_range(rect[0], 1e-2, 1e5, "--rect width", "mm"),
                                                                              tool::require_range(rect[1], 1e-2, 1e5, "--rect height", "mm"));
         std::vector<element> classes;
         std::vector<double> weights;
         load_classes(elements, scale, width, tolerance, classes, weights);
+        const bool any_labels = std::any_of(elements.begin(), elements.end(), [](const element_arg& e) { return !e.labels.empty(); });
+        if (any_labels != !labels_image.empty())
+            throw invalid_input(any_labels ? "--element E.svg@G needs --labels L.png" : "--labels needs an element given as E.svg@G1,G2");
+        if (any_labels) domain.class_allowed = label_regions(grey_levels(io::read_png(labels_image)), labels_image, domain.bounds, elements);
         {
             const double smallest = smallest_covering_area(classes, weights, field_scale.empty() ? 1.0 : std::min(field_scale[0], field_scale[1]));
             if (!std::isfinite(smallest)) throw invalid_input("--element: every class has weight 0");
@@ -527,7 +607,7 @@ int main(int argc, char** argv) {
         };
         report.update(layout_fields(syn));
         for (std::size_t c = 0; c < classes.size(); ++c)
-            report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"instances", f.instances_per_class[c]},
+            report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"labels", elements[c].labels}, {"instances", f.instances_per_class[c]},
                                           {"skeleton_vertices", classes[c].vertices.size()}, {"size_mm", classes[c].size},
                                           {"median_strip_width_mm", classes[c].median_width()}});
 

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Filigree synthesis (Chen et al. 2016) in 2D: every bundled element alone in a 90 x 70 mm rectangle,
 # a multi-class run (spiral 2 : leaf 1), a field-controlled run (element scale from a grayscale
-# gradient, data/filigree/gradient_field.png) and a run inside an SVG domain with a hole
-# (data/filigree/frame_with_hole.svg). The multi-class and domain runs include the shell-FEM
-# structural optimization (§5); each run writes NAME.svg, NAME.stl, NAME.png, NAME_steps.png and
+# gradient, data/filigree/gradient_field.png), a run inside an SVG domain with a hole
+# (data/filigree/frame_with_hole.svg) and three element sets in the three regions of a label
+# picture. The multi-class and domain runs include the shell-FEM structural optimization (§5); each run writes NAME.svg, NAME.stl, NAME.png, NAME_steps.png and
 # NAME.json to $OUT_DIR, and every result is re-counted independently as one connected piece with a
 # watertight STL (tests/check_pattern_output).
 set -euo pipefail
@@ -30,6 +30,10 @@ run multi_class --element "$el/spiral.svg:2" --element "$el/leaf.svg:1" --rect 9
 run field --element "$el/s_curl.svg" --rect 90 70 --scale 18 --width 0.8 --field-image "$el/gradient_field.png" --field-scale 0.6 1.4 \
   --no-structure --seed 3
 run domain_hole --element "$el/c_scroll.svg" --domain "$el/frame_with_hole.svg" --scale 18 --width 0.8 --seed 4
+# element sets per region: spirals where data/filigree/three_regions.png is black, S-scrolls where
+# it is grey, leaves where it is white, one piece across the borders
+run regions --element "$el/spiral.svg@0" --element "$el/s_curl.svg@128" --element "$el/leaf.svg@255" --labels "$el/three_regions.png" \
+  --rect 90 70 --scale 18 --width 0.8 --no-structure --seed 2
 # On base surfaces (part 2): the bunny (closed up to its 5 holes, scaled to 100 mm, y up) and the
 # generated open vase (data/meshes/vase.obj, z up); OUT.stl printable solid, OUT.obj baked M_b,
 # OUT.png the base with the filigree from two sides, OUT.json the report.

@@ -247,6 +247,38 @@ TEST_CASE("filigree: how the piece is held, its material and a thickness bound a
 #endif
 }
 
+TEST_CASE("filigree --labels: each element keeps to the regions of its grey levels", "[cli][filigree]") {
+    using namespace filigree_cli;
+    const std::string labels = (data_dir / "filigree/three_regions.png").string();  // grey 0 | 128 | 255 in vertical thirds
+    const std::string out = (work_dir / "filigree_regions.svg").string();
+    const result r = run("filigree", {"--element", (data_dir / "filigree/spiral.svg").string() + "@0", "--element",
+                                      (data_dir / "filigree/leaf.svg").string() + "@128,255", "--labels", labels, "--rect", "60", "40",
+                                      "--scale", "16", "--width", "0.8", "--no-structure", "--seed", "2", "-o", out});
+    INFO("stderr: " << r.err);
+    REQUIRE(r.code == 0);
+    const json j = json::parse(slurp(work_dir / "filigree_regions.json"));
+    CHECK(j.at("field") == "constant");
+    const json& e = j.at("elements");
+    CHECK(e.at(0).at("labels") == json::array({0}));
+    CHECK(e.at(1).at("labels") == json::array({128, 255}));
+    // a third of the area takes spirals, two thirds leaves: both classes are there, and each
+    // class's share follows its region (spirals cover at most about half of the instances)
+    const int spirals = e.at(0).at("instances"), leaves = e.at(1).at("instances");
+    INFO("spirals " << spirals << ", leaves " << leaves);
+    CHECK(spirals >= 3);
+    CHECK(leaves > spirals);
+    CHECK(j.at("connected_components") == 1);
+    const std::string el = (data_dir / "filigree/spiral.svg").string();
+    for (const cli_case& c : std::vector<cli_case>{
+             {"labels without --labels", {"--element", el + "@0", "--rect", "50", "50", "--scale", "16", "-o", out}, 2, "--labels"},
+             {"--labels without labelled elements", {"--element", el, "--labels", labels, "--rect", "50", "50", "--scale", "16", "-o", out}, 2,
+              "E.svg@G1,G2"},
+             {"a grey level the picture lacks", {"--element", el + "@7", "--labels", labels, "--rect", "50", "50", "--scale", "16", "-o", out}, 2,
+              "grey level 7"},
+         })
+        check_case("filigree", c);
+}
+
 TEST_CASE("filigree: bad input is refused with the documented exit code and nothing written", "[cli][filigree]") {
     const std::string el = (data_dir / "filigree/spiral.svg").string();
     const std::string out = (work_dir / "filigree_bad.svg").string();
@@ -403,6 +435,53 @@ TEST_CASE("filigree --mesh: a band of the vase, watertight solid, report, same b
         outputs.push_back(slurp(out) + slurp(obj));
     }
     CHECK(outputs[0] == outputs[1]);
+}
+
+TEST_CASE("filigree --mesh --directions: user directions at vertices turn the elements", "[cli][filigree][surface]") {
+    using namespace filigree_cli;
+    const std::string el = (data_dir / "filigree/c_scroll.svg").string();
+    const std::string region = write_file("filigree_vase_band_dirs.txt", vase_band(4, 40));
+    // a dozen vertices of the vase near z = 20 mm ask for horizontal elements (the tangent around z)
+    std::ostringstream rows;
+    {
+        std::istringstream in(slurp(data_dir / "meshes/vase.obj"));
+        std::size_t id = 0, n = 0;
+        for (std::string line; std::getline(in, line) && n < 12;)
+            if (line.rfind("v ", 0) == 0) {
+                std::istringstream l(line.substr(2));
+                double x = 0, y = 0, z = 0;
+                l >> x >> y >> z;
+                if (std::abs(z - 20) < 0.6) rows << id << " " << -y << " " << x << " 0\n", ++n;
+                ++id;
+            }
+    }
+    const std::string dirs = write_file("filigree_vase_dirs.txt", rows.str());
+    auto run_band = [&](const std::string& name, std::vector<std::string> extra) {
+        const std::string out = (work_dir / name).string();
+        std::vector<std::string> a = {"--element", el, "--mesh", (data_dir / "meshes/vase.obj").string(), "--region", region, "--scale", "14",
+                                      "--width", "0.8", "--rounds", "2", "--seed", "3", "--no-structure", "-o", out};
+        a.insert(a.end(), extra.begin(), extra.end());
+        const result r = run("filigree", a);
+        INFO("stderr: " << r.err);
+        REQUIRE(r.code == 0);
+        fs::path rep = out;
+        rep.replace_extension(".json");
+        return std::make_pair(slurp(out), json::parse(slurp(rep)));
+    };
+    const auto [up_stl, up_json] = run_band("filigree_vase_up.stl", {});
+    const auto [dir_stl, dir_json] = run_band("filigree_vase_dirs.stl", {"--directions", dirs});
+    CHECK(up_json.at("direction_constraints") == 0);
+    CHECK(dir_json.at("direction_constraints") == 12);
+    CHECK(dir_stl != up_stl);  // the layout follows the field
+    CHECK(stl_watertight(dir_stl));
+    const std::string bad = write_file("filigree_vase_dirs_bad.txt", "999999 1 0 0\n");
+    check_case("filigree", {"a direction at a vertex the mesh does not have",
+                            {"--element", el, "--mesh", (data_dir / "meshes/vase.obj").string(), "--directions", bad, "--scale", "14", "-o",
+                             (work_dir / "filigree_vase_dirs_bad.stl").string()},
+                            2, "filigree_vase_dirs_bad.txt"});
+    check_case("filigree", {"--directions without --mesh", {"--element", el, "--rect", "50", "50", "--directions", dirs, "--scale", "14", "-o",
+                                                            (work_dir / "filigree_vase_dirs_bad.svg").string()},
+                            2, "--mesh"});
 }
 
 TEST_CASE("filigree --mesh: bad input is refused with the documented exit code and nothing written", "[cli][filigree][surface]") {

@@ -17,6 +17,8 @@
 #include "fabsynth/filigree/figures.hpp"
 #include "fabsynth/filigree/reinforcement.hpp"
 #include "fabsynth/filigree/structure.hpp"
+#include "fabsynth/filigree/synthesis.hpp"
+#include "fabsynth/io/svg.hpp"
 
 namespace controls_test {
 
@@ -234,4 +236,39 @@ TEST_CASE("filigree controls: the stress map colours each node by its stress ove
     INFO("bar heights " << grey << " " << orange);
     CHECK(grey == Approx(440.0 * 100 / 108).margin(2));  // the data box is 440 px tall
     CHECK(orange == Approx(440.0 * 50 / 108).margin(2));
+}
+
+TEST_CASE("filigree controls: element sets per region hold through initialization, placement and boosting", "[filigree][synthesis]") {
+    using namespace fabsynth;
+    using namespace fabsynth::filigree;
+    const std::string data = FABSYNTH_DATA_DIR;
+    const std::vector<element> classes{element_from_svg(io::read_svg(data + "/filigree/spiral.svg", 0.01), {.size_mm = 16, .width_mm = 0.8}),
+                                       element_from_svg(io::read_svg(data + "/filigree/leaf.svg", 0.01), {.size_mm = 16, .width_mm = 0.8})};
+    const std::vector<double> weights{1.0, 1.0};
+    synthesis_options so;
+    so.seed = 3;
+    so.max_rounds = 3;
+    planar_domain domain = planar_domain::rectangle(90, 50);
+    // without regions both classes spread over both halves
+    auto sides = [](const synthesis_result& r, std::uint32_t cls) {
+        std::array<std::size_t, 2> n{};
+        for (const instance& in : r.instances)
+            if (in.cls == cls) ++n[in.position.x < 45 ? 0 : 1];
+        return n;
+    };
+    const synthesis_result mixed = synthesize_pattern(classes, weights, domain, constant_field{}, so);
+    CHECK(sides(mixed, 0)[1] > 0);
+    CHECK(sides(mixed, 1)[0] > 0);
+    // spirals on the left half, leaves on the right: every instance stays on its side
+    domain.class_allowed = [](std::uint32_t cls, vec2 p) { return cls == 0 ? p.x < 45 : p.x >= 45; };
+    const synthesis_result split = synthesize_pattern(classes, weights, domain, constant_field{}, so);
+    INFO("spirals left/right " << sides(split, 0)[0] << "/" << sides(split, 0)[1] << ", leaves " << sides(split, 1)[0] << "/" << sides(split, 1)[1]
+                               << "; boosted " << split.boosted);
+    CHECK(sides(split, 0)[0] >= 5);
+    CHECK(sides(split, 0)[1] == 0);
+    CHECK(sides(split, 1)[1] >= 5);
+    CHECK(sides(split, 1)[0] == 0);
+    double moved = 0;
+    for (const round_record& r : split.per_round) moved += r.translation_mm;
+    CHECK(moved > 1.0);  // the instances did move (mm summed over the rounds), and kept to their sides
 }

@@ -160,7 +160,7 @@ struct boost_move {
         if (e < best) best = e, r.best = cand, r.moved = true, r.reconnected = deformed, r.translation = glm::distance(cand.position, cur.position);
     };
     for (const vec2& p : cands) {  // learning phase: each boosting vector as it is, and reconnected
-        if (!s.domain().contains(p) || glm::distance(p, cur.position) < 1e-9) continue;
+        if (!s.domain().admits(cur.cls, p) || glm::distance(p, cur.position) < 1e-9) continue;
         instance cand = s.moved(cur, p);
         placed g = place(s.classes()[cand.cls], cand);
         std::vector<std::uint32_t> now = s.neighbours_of(g, i);

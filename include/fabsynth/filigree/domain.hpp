@@ -13,6 +13,7 @@
 /// shapes are united; SVG user units are taken as mm. Throws invalid_input for a rectangle that is
 /// not finite and > 0, or a drawing without filled area.
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -34,8 +35,13 @@ struct local_domain {
     std::function<bool(vec2)> inside;           ///< true for points of the domain
     std::vector<std::vector<vec2>> boundary;    ///< boundary polylines (mm)
     std::vector<bool> closed;                   ///< per polyline: a closed ring
+    /// Element sets per region: whether an instance of class `cls` may have its reference point at
+    /// p (mm, this frame); empty: every class everywhere.
+    std::function<bool(std::uint32_t cls, vec2 p)> class_allowed;
 
     [[nodiscard]] bool contains(vec2 p) const { return inside(p); }
+    /// p lies in the domain and class `cls` may be placed there.
+    [[nodiscard]] bool admits(std::uint32_t cls, vec2 p) const { return inside(p) && (!class_allowed || class_allowed(cls, p)); }
 
     /// Points along every boundary polyline, at most `spacing` mm apart (its vertices included).
     [[nodiscard]] std::vector<vec2> boundary_samples(double spacing) const {
@@ -59,6 +65,10 @@ struct planar_domain {
     std::vector<polygon_with_holes> region;
     box2 bounds;
     double area = 0.0;  ///< mm^2
+    /// Element sets per region (e.g. from a label picture): whether class `cls` may have an
+    /// instance's reference point at p (mm); empty: every class everywhere. Initialization draws,
+    /// placement and boosting moves and the insertions of §5 keep to it.
+    std::function<bool(std::uint32_t cls, vec2 p)> class_allowed;
 
     /// [0, width] x [0, height] (mm).
     [[nodiscard]] static planar_domain rectangle(double width, double height) {
@@ -109,6 +119,7 @@ struct planar_domain {
     [[nodiscard]] local_domain frame() const {
         local_domain f;
         f.inside = [d = std::make_shared<const planar_domain>(*this)](vec2 p) { return d->contains(p); };
+        f.class_allowed = class_allowed;
         for (const polygon_with_holes& p : region) {
             f.boundary.emplace_back(p.outer.begin(), p.outer.end()), f.closed.push_back(true);
             for (const ring2& h : p.holes) f.boundary.emplace_back(h.begin(), h.end()), f.closed.push_back(true);

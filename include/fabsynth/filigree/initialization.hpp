@@ -182,17 +182,22 @@ struct class_picker {
         }
         if (!(wsum > 0)) throw invalid_input("initialization: at least one class weight must be > 0");
     }
-    [[nodiscard]] std::uint32_t pick() const {
+    // The most underfilled class among those `allowed` accepts (UINT32_MAX when none does).
+    template <class Allowed>
+    [[nodiscard]] std::uint32_t pick(Allowed&& allowed) const {
         std::uint32_t best = UINT32_MAX;
         double best_key = std::numeric_limits<double>::infinity();
         for (std::uint32_t c = 0; c < classes.size(); ++c) {
-            if (weights[c] <= 0) continue;
+            if (weights[c] <= 0 || !allowed(c)) continue;
             const double key = (static_cast<double>(count[c]) + 1.0) / (weights[c] / wsum);
             if (key < best_key * (1 - 1e-12) ||
                 (std::abs(key - best_key) <= 1e-12 * best_key && best != UINT32_MAX && classes[c].size < classes[best].size))
                 best_key = key, best = c;
         }
         return best;
+    }
+    [[nodiscard]] std::uint32_t pick() const {
+        return pick([](std::uint32_t) { return true; });
     }
 };
 
@@ -271,23 +276,31 @@ template <control_field F>
     di::host_pool hosts(opt.attempts_per_host);
     const std::function<double(vec2)> scale_at = [&](vec2 p) { return field(p).scale; };
 
+    // The class drawn for a candidate at p: the most underfilled one, or with element sets per
+    // region the most underfilled of those allowed at p (UINT32_MAX: none is).
+    auto class_at = [&](std::uint32_t current, vec2 p) {
+        if (!domain.class_allowed || domain.class_allowed(current, p)) return current;
+        return picker.pick([&](std::uint32_t c) { return domain.class_allowed(c, p); });
+    };
     auto generate = [&](counter_rng& rng) -> std::optional<instance> {
         const std::uint32_t current = picker.pick();
         hosts.host = SIZE_MAX;
         if (geo.empty()) {  // the first element: the centre, then uniform points of the domain
             if (hosts.first_failures >= opt.attempts_per_host) return std::nullopt;
-            if (hosts.first_failures == 0) return make_instance(classes, current, di::central_point(domain), field);
-            const vec2 p = domain.bounds.lo + (domain.bounds.hi - domain.bounds.lo) * vec2(rng.uniform(), rng.uniform());
-            if (!domain.contains(p)) return ++hosts.first_failures, std::nullopt;
-            return make_instance(classes, current, p, field);
+            const vec2 p = hosts.first_failures == 0 ? di::central_point(domain)
+                                                     : domain.bounds.lo + (domain.bounds.hi - domain.bounds.lo) * vec2(rng.uniform(), rng.uniform());
+            const std::uint32_t cls = hosts.first_failures == 0 || domain.contains(p) ? class_at(current, p) : UINT32_MAX;
+            if (cls == UINT32_MAX) return ++hosts.first_failures, std::nullopt;
+            return make_instance(classes, cls, p, field);
         }
         if (!hosts.draw(rng)) return std::nullopt;
         const vec2 p = di::position_near(geo[hosts.host], classes[current].size, scale_at, rng);
-        if (!domain.contains(p)) {
+        const std::uint32_t cls = domain.contains(p) ? class_at(current, p) : UINT32_MAX;
+        if (cls == UINT32_MAX) {
             hosts.failed();
             return std::nullopt;
         }
-        return make_instance(classes, current, p, field);
+        return make_instance(classes, cls, p, field);
     };
 
     auto accept = [&](const instance& cand, std::span<const instance>) {

@@ -329,7 +329,7 @@ struct move_result {
     for (int k = 0; k < candidates; ++k) {
         const double a = 2 * std::numbers::pi * rng.uniform(), d = radius * std::sqrt(rng.uniform());
         const vec2 p = cur.position + d * vec2(std::cos(a), std::sin(a));
-        if (!s.domain().contains(p)) continue;
+        if (!s.domain().admits(cur.cls, p)) continue;
         const instance cand = s.moved(cur, p);
         const placed g = place(s.classes()[cand.cls], cand);
         const std::vector<std::uint32_t> now = s.neighbours_of(g, i);

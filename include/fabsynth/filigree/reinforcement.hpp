@@ -167,6 +167,16 @@ void reinforcement_loop(Layout& layout, structural_record& r, const reinforcemen
     return cls;
 }
 
+/// The same among the classes `allowed` accepts (element sets per region); UINT32_MAX when none
+/// with a weight > 0 is.
+template <class Allowed>
+[[nodiscard]] std::uint32_t reinforcement_class(std::span<const double> weights, Allowed&& allowed) {
+    std::uint32_t cls = UINT32_MAX;
+    for (std::uint32_t c = 0; c < weights.size(); ++c)
+        if (weights[c] > 0 && allowed(c) && (cls == UINT32_MAX || weights[c] > weights[cls])) cls = c;
+    return cls;
+}
+
 namespace detail::reinforce {
 
 // What one_piece did with the pieces that are not the largest.
@@ -370,8 +380,11 @@ template <control_field F>
             best, r, opt, [&](const layout& l, double t) { return analyse_structure(l.tri, t, sopt); },
             [&](const layout& l, const structural_report& rep, int round, std::size_t& added, const progress_span& grow_progress) -> std::optional<layout> {
                 std::vector<instance> in = l.instances;
-                for (const vec2& c : weak_region_centres(rep, 0.5 * classes[cls].size))
-                    if (domain.contains(c)) in.push_back(make_instance(classes, cls, c, field)), ++added;
+                for (const vec2& c : weak_region_centres(rep, 0.5 * classes[cls].size)) {
+                    if (!domain.contains(c)) continue;
+                    const std::uint32_t here = reinforcement_class(weights, [&](std::uint32_t k) { return !domain.class_allowed || domain.class_allowed(k, c); });
+                    if (here != UINT32_MAX) in.push_back(make_instance(classes, here, c, field)), ++added;
+                }
                 if (added == 0) return std::nullopt;
                 pattern_state s(classes, std::move(in), any_field(field), domain, so.gamma_boundary);
                 synthesis_options again = so;

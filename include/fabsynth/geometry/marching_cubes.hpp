@@ -22,8 +22,10 @@
 /// Vertices: exactly one per crossed edge of the tetrahedral grid (axis edges, face diagonals and
 /// the cube diagonal), shared by all triangles using it, at linear interpolation of the samples.
 /// A sample equal to iso counts as outside (inside is f < iso strictly), and the interpolation
-/// parameter is clamped to [1e-7, 1 - 1e-7] of the edge, so vertices never coincide with grid points
-/// or each other and no triangle has zero area (in exact arithmetic) even when samples hit iso.
+/// parameter is clamped to [t, 1 - t] of the edge, t = max(1e-7, 16 float half-ulps of the grid's
+/// largest coordinate / the smallest spacing) (at most 1e-4 of a 0.3 mm cell 100 mm from the
+/// origin), so vertices never coincide with grid points or each other, neither in double nor once
+/// rounded to float (what STL stores), and no triangle has zero area even when samples hit iso.
 ///
 /// Orientation: triangles are counter-clockwise seen from outside (normals point toward
 /// increasing f). Output is deterministic and bit-identical for any thread count: slices are
@@ -85,6 +87,16 @@ struct slice {
 
 constexpr double t_min = 1e-7;
 
+// The interpolation clamp for a grid: at least t_min, and far enough from the grid points that two
+// vertices on different edges of one grid point stay distinct when rounded to single precision
+// (binary STL, 3MF): 16 float half-ulps of the largest coordinate, in units of the smallest spacing.
+[[nodiscard]] inline double float_safe_t_min(vec3 origin, vec3 spacing, ivec3 dims) {
+    const vec3 far = origin + spacing * vec3(dims);
+    const double reach = std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z), std::abs(far.x), std::abs(far.y), std::abs(far.z)});
+    const double h = std::min({spacing.x, spacing.y, spacing.z});
+    return std::min(0.25, std::max(t_min, 16.0 * 0x1p-24 * reach / h));
+}
+
 }  // namespace detail::mt
 
 /// Extracts the surface f = iso from samples f(p) at grid points p in [0, dims) (world position
@@ -108,6 +120,7 @@ template <grid_sampler F>
     if (nxy > (std::size_t{1} << 32))
         throw invalid_input("marching_cubes: slice of " + std::to_string(nxy) + " grid points is too large");
 
+    const double t_lo = float_safe_t_min(origin, spacing, dims);
     triangle_mesh mesh;
     std::array<slice, 3> vs;  // value ring: slice k lives in vs[k % 3]
     for (auto& s : vs) s.value.resize(nxy), s.mask.resize(nxy), s.base.resize(nxy);
@@ -173,7 +186,7 @@ template <grid_sampler F>
                     const double v0 = s.value[i], v1 = dz ? up->value[j] : s.value[j];
                     double t = (iso - v0) / (v1 - v0);
                     if (!std::isfinite(t)) t = 0.5;  // only when samples near +-DBL_MAX overflow
-                    t = std::clamp(t, t_min, 1.0 - t_min);
+                    t = std::clamp(t, t_lo, 1.0 - t_lo);
                     const vec3 p0 = position({x, y, k}), p1 = position({x + dx, y + dy, k + dz});
                     mesh.vertices[static_cast<std::size_t>(next++)] = p0 + t * (p1 - p0);
                 }

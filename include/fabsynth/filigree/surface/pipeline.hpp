@@ -37,6 +37,7 @@
 #include "fabsynth/filigree/surface/reconstruct.hpp"
 #include "fabsynth/filigree/surface/structure.hpp"
 #include "fabsynth/filigree/surface/synthesis.hpp"
+#include "fabsynth/geometry/extrude.hpp"
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/render.hpp"
@@ -54,16 +55,20 @@ struct surface_filigree_options : filigree_options {
     double region_curve_reach = 0;            ///< how far curve points may lie off the mesh, mm; 0: 2% of the mesh's bounding-box diagonal
     std::string region_name;                  ///< names the region in messages (e.g. its file); empty: "region" / "curve region"
     std::vector<double> vertex_scale;         ///< one element scale factor per mesh vertex; empty: 1 everywhere
+    /// User directions at mesh vertices (§7.2, Fig. 16a's sketched constraints), harmonically
+    /// interpolated over the surface (surface/field.hpp); empty: the elements follow `up` everywhere.
+    std::vector<direction_constraint> directions;
     double solid_cell = 0;                    ///< grid spacing of the thickening, mm; 0: a third of the final thickness
 };
 
 /// The base mesh of a surface filigree with its region and control fields (built once from the
-/// options' up, region_* and vertex_scale; make_filigree builds one, or takes one built by the
+/// options' up, directions, region_* and vertex_scale; make_filigree builds one, or takes one built by the
 /// caller, e.g. to check the region's size before the work). Not copyable: the fields point into it.
 class surface_filigree_base {
 public:
     surface_filigree_base(triangle_mesh mesh, const surface_filigree_options& opt)
-        : mesh_(checked(std::move(mesh))), patcher_(mesh_), region_(make_region(opt)), direction_(surface_direction_field::from_up_vector(patcher_, opt.up)),
+        : mesh_(checked(std::move(mesh))), patcher_(mesh_), region_(make_region(opt)), direction_(opt.directions.empty() ? surface_direction_field::from_up_vector(patcher_, opt.up)
+                                                 : surface_direction_field::from_constraints(patcher_, opt.directions, opt.up)),
           scale_(opt.vertex_scale.empty() ? surface_scale_field::constant(mesh_, 1.0) : surface_scale_field::per_vertex(mesh_, opt.vertex_scale)) {}
     surface_filigree_base(const surface_filigree_base&) = delete;
     surface_filigree_base& operator=(const surface_filigree_base&) = delete;
@@ -174,8 +179,11 @@ template <progress_callback P = no_progress>
     // default: the surface_offset guideline (cell <= tau / 4) at a third: the strips are wider than thick
     oo.cell = opt.solid_cell > 0 ? opt.solid_cell : r.reinforcement.thickness / 3;
     r.solid = thicken_surface(r.reinforcement.baked, r.reinforcement.thickness, oo);
+    weld_to_float(r.solid);  // what STL and 3MF store; checked below as written
     const mesh_topology_info topo = analyze_topology(r.solid);
-    if (!topo.is_watertight()) throw solver_error("the printable mesh is not watertight");
+    if (!topo.is_watertight())
+        throw solver_error("the printable mesh, rounded to single precision, is not watertight (" + std::to_string(topo.boundary_edges) + " boundary, " +
+                           std::to_string(topo.nonmanifold_edges) + " non-manifold edges)");
     r.solid_components = topo.components;
     r.seconds.mesh = dp::since(t);
 
