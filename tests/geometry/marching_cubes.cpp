@@ -2,6 +2,7 @@
 
 #include <fabsynth/core/parallel.hpp>
 #include <fabsynth/core/rng.hpp>
+#include <fabsynth/geometry/extrude.hpp>
 #include <fabsynth/geometry/marching_cubes.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
 #include <fabsynth/voxel/grid.hpp>
@@ -94,6 +95,28 @@ TEST_CASE("marching cubes: random fields with samples equal to iso stay watertig
         REQUIRE(min_face_area(m) > 0.0);
         REQUIRE(signed_volume(m) > 0.0);  // outward orientation
         for (const vec3& v : m.vertices) REQUIRE(box3({1, 2, 3}, {5, 3.75, 12}).contains(v));
+    }
+}
+
+TEST_CASE("marching cubes: samples at iso far from the origin stay watertight once rounded to float", "[geometry][marching_cubes]") {
+    // The same {-1, 0, 1} fields on a 0.3 mm grid 100 mm from the origin, where a float's spacing
+    // is 7.6e-6 mm: every sample at iso puts vertices of several edges next to one grid point; they
+    // must stay apart when rounded to single precision (what STL stores), or welding them folds
+    // the surface.
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        const ivec3 dims(9, 8, 10);
+        auto f = [&](ivec3 p) -> double {
+            if (p.x == 0 || p.y == 0 || p.z == 0 || p.x == dims.x - 1 || p.y == dims.y - 1 || p.z == dims.z - 1) return 1.0;
+            return static_cast<double>(hash64(seed, p.x, p.y, p.z) % 3) - 1.0;
+        };
+        triangle_mesh m = marching_cubes(f, dims, vec3(100, 100, 100), vec3(0.3));
+        INFO("seed " << seed);
+        REQUIRE(analyze_topology(m).is_watertight());
+        const std::size_t vertices = m.vertices.size(), faces = m.faces.size();
+        weld_to_float(m);
+        CHECK(m.vertices.size() == vertices);  // no two vertices share a float position
+        CHECK(m.faces.size() == faces);
+        CHECK(analyze_topology(m).is_watertight());
     }
 }
 
