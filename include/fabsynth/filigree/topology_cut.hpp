@@ -93,7 +93,7 @@ struct topology_cut_options {
     /// shortest dangling piece per site): 1.5 -> 0.44, 8 -> 0.39, 20 -> 0.23, 30 -> 0.18. At 30
     /// (24 mm for 0.8 mm strips, about a 20 mm element's outer turn) a spiral's tail that enters
     /// a neighbour and crosses one of its turns ends at that turn, a T joint, where 1.5 widths only
-    /// took stubs and left the tail crossing. Only one piece goes per site, so an element loses
+    /// took the shortest ends and left the tail crossing. Only one piece goes per site, so an element loses
     /// at most one tail per single crossing.
     static constexpr double protrusion_width_factor = 30.0;
     /// Width-based detached_length: this times the largest strip width at a conflict's sites.
