@@ -219,10 +219,10 @@ TEST_CASE("filigree controls: the stress map colours each node by its stress ove
     r.yield_mpa = 40;
     r.histogram_before = {100, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // 17 bins of 5 MPa: the last open
     r.histogram_after = r.histogram_before;
-    r.histogram_after[0] = 50;
+    r.histogram_after[0] = 50, r.histogram_after[1] = 50;  // percentages of the nodes: 100% before, 50% after
     const image8 plot = filigree::stress_histogram_plot(r);
     REQUIRE(plot.width == 1000);
-    // the first bin's bars: before (grey) as tall as the axis allows (100 of 108), after (orange) half of it
+    // the first bin's bars: before (grey) 100% of the nodes on an axis to 100%, after (orange) 50%
     auto column_height = [&](std::array<int, 3> colour) {
         int best = 0;
         for (int x = 0; x < plot.width; ++x) {
@@ -234,8 +234,8 @@ TEST_CASE("filigree controls: the stress map colours each node by its stress ove
     };
     const int grey = column_height({150, 150, 150}), orange = column_height({255, 127, 14});
     INFO("bar heights " << grey << " " << orange);
-    CHECK(grey == Approx(440.0 * 100 / 108).margin(2));  // the data box is 440 px tall
-    CHECK(orange == Approx(440.0 * 50 / 108).margin(2));
+    CHECK(grey == Approx(440.0).margin(2));  // the data box is 440 px tall
+    CHECK(orange == Approx(220.0).margin(2));
 }
 
 TEST_CASE("filigree controls: element sets per region hold through initialization, placement and boosting", "[filigree][synthesis]") {

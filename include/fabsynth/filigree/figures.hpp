@@ -5,8 +5,8 @@
 ///   stress_map_image       Fig. 10: the piece coloured by nodal von Mises stress over the yield
 ///                          stress (blue 0, green half the yield, red at the yield, magenta above:
 ///                          the weak nodes), linear between nodes, with a colour bar;
-///   stress_histogram_plot  Fig. 21: node counts per stress bin before and after the optimization,
-///                          side by side, with the yield stress marked.
+///   stress_histogram_plot  Fig. 21: the percentage of nodes per stress bin before and after the
+///                          optimization, side by side, with the yield stress and the weak shares.
 ///
 /// Usage:
 ///   const auto f = fabsynth::filigree::make_filigree(classes, weights, domain, field, opt);
@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "fabsynth/core/box.hpp"
 #include "fabsynth/core/canvas.hpp"
@@ -113,33 +114,50 @@ namespace detail::figures {
     return cv.img;
 }
 
-/// Fig. 21: the record's histograms (histogram_before, histogram_after: node counts per
-/// histogram_bin_mpa bin, the last bin open) as paired bars, before in grey and after in orange,
-/// over the stress in MPa, with the yield stress as a dashed red line; 1000 x 600 pixels. Throws
-/// invalid_input if the record holds no analysis.
+/// Fig. 21 as the paper draws it (§8.3.1: "the vertical axis is the percentage of nodes lying in
+/// each interval"): the record's histograms (histogram_before, histogram_after: node counts per
+/// histogram_bin_mpa bin, the last bin open) as percentages of their nodes, paired bars, before in
+/// grey and after in orange, over the stress in MPa, with the yield stress as a dashed red line and
+/// the weak percentages (nodes above the yield, from weak_fraction_phase1 / _phase2) written beside
+/// it; 1000 x 600 pixels. Throws invalid_input if the record holds no analysis.
 [[nodiscard]] inline image8 stress_histogram_plot(const structural_record& r) {
     if (!r.analysed || r.histogram_before.empty() || r.histogram_after.size() != r.histogram_before.size() || !(r.histogram_bin_mpa > 0))
         throw invalid_input("stress_histogram_plot: the record holds no structural analysis");
     const std::size_t n = r.histogram_before.size();
     const double bin = r.histogram_bin_mpa;
-    std::size_t top = 1;
-    for (std::size_t k = 0; k < n; ++k) top = std::max({top, r.histogram_before[k], r.histogram_after[k]});
+    auto percent = [](const std::vector<std::size_t>& h) {
+        double total = 0;
+        for (const std::size_t c : h) total += static_cast<double>(c);
+        std::vector<double> p(h.size(), 0.0);
+        for (std::size_t k = 0; k < h.size() && total > 0; ++k) p[k] = 100.0 * static_cast<double>(h[k]) / total;
+        return p;
+    };
+    const std::vector<double> before = percent(r.histogram_before), after = percent(r.histogram_after);
+    double top = 1.0;
+    for (std::size_t k = 0; k < n; ++k) top = std::max({top, before[k], after[k]});
     canvas cv(1000, 600);
-    plot_panel p{cv, 110, 60, 960, 500, 0.0, bin * static_cast<double>(n), 0.0, 1.08 * static_cast<double>(top)};
-    p.axes("VON MISES STRESS (MPA), LAST BIN OPEN", "NODES", "NODAL STRESS BEFORE (GREY) AND AFTER (ORANGE)");
-    const rgb8 before{150, 150, 150}, after{255, 127, 14};
+    plot_panel p{cv, 110, 60, 960, 500, 0.0, bin * static_cast<double>(n), 0.0, std::min(100.0, 1.08 * top)};
+    p.axes("VON MISES STRESS (MPA), LAST BIN OPEN", "NODES (%)", "NODAL STRESS BEFORE (GREY) AND AFTER (ORANGE)");
+    const rgb8 grey{150, 150, 150}, orange{255, 127, 14};
     for (std::size_t k = 0; k < n; ++k) {
         const double x = bin * static_cast<double>(k);
-        auto bar = [&](double a, double b, std::size_t count, rgb8 c) {
-            if (count == 0) return;
-            cv.rect(static_cast<int>(std::lround(p.X(a))), static_cast<int>(std::lround(p.Y(static_cast<double>(count)))),
-                    static_cast<int>(std::lround(p.X(b))) - 1, static_cast<int>(std::lround(p.Y(0.0))) - 1, c);
+        auto bar = [&](double a, double b, double share, rgb8 c) {
+            if (share <= 0) return;
+            // at least one pixel, so a bin with a few nodes (the weak tail) stays visible
+            const int y_top = std::min(static_cast<int>(std::lround(p.Y(share))), static_cast<int>(std::lround(p.Y(0.0))) - 2);
+            cv.rect(static_cast<int>(std::lround(p.X(a))), y_top, static_cast<int>(std::lround(p.X(b))) - 1, static_cast<int>(std::lround(p.Y(0.0))) - 1, c);
         };
-        bar(x + 0.08 * bin, x + 0.5 * bin, r.histogram_before[k], before);
-        bar(x + 0.5 * bin, x + 0.92 * bin, r.histogram_after[k], after);
+        bar(x + 0.08 * bin, x + 0.5 * bin, before[k], grey);
+        bar(x + 0.5 * bin, x + 0.92 * bin, after[k], orange);
     }
-    if (r.yield_mpa > 0) cv.line(p.X(r.yield_mpa), p.py0, p.X(r.yield_mpa), p.py1, {220, 30, 20}, 2, 6);
-    cv.text(static_cast<int>(p.X(r.yield_mpa)) + 6, p.py0 + 6, "YIELD " + detail::figures::mpa(r.yield_mpa), {220, 30, 20});
+    const rgb8 red{220, 30, 20};
+    if (r.yield_mpa > 0) cv.line(p.X(r.yield_mpa), p.py0, p.X(r.yield_mpa), p.py1, red, 2, 6);
+    cv.text(static_cast<int>(p.X(r.yield_mpa)) + 6, p.py0 + 6, "YIELD " + detail::figures::mpa(r.yield_mpa), red);
+    char line[80];
+    const double wb = r.weak_fraction_phase1.empty() ? 0.0 : r.weak_fraction_phase1.front();
+    const double wa = r.weak_fraction_phase2.empty() ? 0.0 : r.weak_fraction_phase2.back();
+    std::snprintf(line, sizeof line, "WEAK %.2f%% BEFORE, %.2f%% AFTER", 100.0 * wb, 100.0 * wa);
+    cv.text(static_cast<int>(p.X(r.yield_mpa)) + 6, p.py0 + 30, line, red);
     return cv.img;
 }
 
