@@ -40,8 +40,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <array>
-#include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -103,29 +101,6 @@ element_arg parse_element(std::string a) {
         }
     }
     return e;
-}
-
-// Element sets per region: class c may lie at p when it has no labels or the label picture (nearest
-// pixel, stretched over `extent`) has one of its grey levels there. Every label must occur in the picture.
-std::function<bool(std::uint32_t, vec2)> label_regions(image8 picture, const std::string& name, const box2& extent,
-                                                       const std::vector<element_arg>& elements) {
-    std::array<bool, 256> present{};
-    for (const std::uint8_t v : picture.data) present[v] = true;
-    std::vector<std::array<bool, 256>> allowed(elements.size());
-    for (std::size_t c = 0; c < elements.size(); ++c) {
-        allowed[c].fill(elements[c].labels.empty());
-        for (const int g : elements[c].labels) {
-            if (!present[static_cast<std::size_t>(g)])
-                throw invalid_input("--element " + elements[c].path + "@" + std::to_string(g) + ": no pixel of " + name + " has grey level " + std::to_string(g));
-            allowed[c][static_cast<std::size_t>(g)] = true;
-        }
-    }
-    return [picture = std::move(picture), extent, allowed = std::move(allowed)](std::uint32_t cls, vec2 p) {
-        const vec2 f = (p - extent.lo) / (extent.hi - extent.lo);
-        const int x = std::clamp(static_cast<int>(std::floor(f.x * picture.width)), 0, picture.width - 1);
-        const int y = std::clamp(static_cast<int>(std::floor(f.y * picture.height)), 0, picture.height - 1);
-        return allowed[cls][picture.at(x, y)];
-    };
 }
 
 // The --mesh form's inputs.
@@ -552,7 +527,11 @@ int main(int argc, char** argv) {
         const bool any_labels = std::any_of(elements.begin(), elements.end(), [](const element_arg& e) { return !e.labels.empty(); });
         if (any_labels != !labels_image.empty())
             throw invalid_input(any_labels ? "--element E.svg@G needs --labels L.png" : "--labels needs an element given as E.svg@G1,G2");
-        if (any_labels) domain.class_allowed = label_regions(grey_levels(io::read_png(labels_image)), labels_image, domain.bounds, elements);
+        if (any_labels) {
+            std::vector<std::vector<int>> class_labels;
+            for (const element_arg& e : elements) class_labels.push_back(e.labels);
+            domain.class_allowed = label_regions(grey_levels(io::read_png(labels_image)), domain.bounds, class_labels, "--labels " + labels_image);
+        }
         {
             const double smallest = smallest_covering_area(classes, weights, field_scale.empty() ? 1.0 : std::min(field_scale[0], field_scale[1]));
             if (!std::isfinite(smallest)) throw invalid_input("--element: every class has weight 0");

@@ -272,3 +272,20 @@ TEST_CASE("filigree controls: element sets per region hold through initializatio
     for (const round_record& r : split.per_round) moved += r.translation_mm;
     CHECK(moved > 1.0);  // the instances did move (mm summed over the rounds), and kept to their sides
 }
+
+TEST_CASE("filigree controls: a label picture gives each class its regions", "[filigree][synthesis]") {
+    using namespace fabsynth;
+    image8 g(2, 1, 1);
+    g.at(0, 0) = 0, g.at(1, 0) = 255;
+    const box2 extent(vec2(0, 0), vec2(20, 10));  // 10 mm per pixel
+    const auto allowed = filigree::label_regions(g, extent, {{0}, {}, {255, 0}});
+    CHECK(allowed(0, {5, 5}));
+    CHECK_FALSE(allowed(0, {15, 5}));
+    CHECK(allowed(1, {15, 5}));  // no labels: everywhere
+    CHECK(allowed(2, {5, 5}));
+    CHECK(allowed(2, {15, 5}));
+    CHECK_FALSE(allowed(0, {50, 5}));  // clamped: the right column
+    CHECK_FALSE(allowed(3, {5, 5}));   // no such class
+    CHECK_THROWS_WITH(filigree::label_regions(g, extent, {{7}}, "L.png"), Catch::Contains("L.png") && Catch::Contains("grey level 7"));
+    CHECK_THROWS_WITH(filigree::label_regions(image8(2, 1, 3), extent, {{0}}), Catch::Contains("grayscale"));
+}

@@ -12,6 +12,8 @@
 /// SVG domains: every filled shape (fill not "none") contributes its rings with its fill rule, the
 /// shapes are united; SVG user units are taken as mm. Throws invalid_input for a rectangle that is
 /// not finite and > 0, or a drawing without filled area.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -21,6 +23,7 @@
 
 #include "fabsynth/core/box.hpp"
 #include "fabsynth/core/error.hpp"
+#include "fabsynth/core/image.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/clip.hpp"
 #include "fabsynth/geometry/polygon.hpp"
@@ -127,5 +130,34 @@ struct planar_domain {
         return f;
     }
 };
+
+/// Element sets per region from a label picture (for planar_domain::class_allowed): `labels` is a
+/// grayscale picture stretched over `extent` (mm; pixel row 0 at extent.lo.y, nearest pixel,
+/// clamped outside); class c may lie at p when class_labels[c] is empty (everywhere) or holds the
+/// grey level there. Throws invalid_input, naming `name`, for a picture that is empty or not
+/// grayscale, an empty extent, or a grey level outside 0-255 or absent from the picture.
+[[nodiscard]] inline std::function<bool(std::uint32_t, vec2)> label_regions(image8 labels, const box2& extent,
+                                                                            const std::vector<std::vector<int>>& class_labels,
+                                                                            const std::string& name = "label picture") {
+    if (labels.empty() || labels.channels != 1) throw invalid_input(name + ": the label picture must be a non-empty grayscale image");
+    if (extent.empty() || !(extent.hi.x > extent.lo.x && extent.hi.y > extent.lo.y)) throw invalid_input(name + ": the extent is empty");
+    std::array<bool, 256> present{};
+    for (const std::uint8_t v : labels.data) present[v] = true;
+    std::vector<std::array<bool, 256>> allowed(class_labels.size());
+    for (std::size_t c = 0; c < class_labels.size(); ++c) {
+        allowed[c].fill(class_labels[c].empty());
+        for (const int g : class_labels[c]) {
+            if (g < 0 || g > 255 || !present[static_cast<std::size_t>(g)])
+                throw invalid_input(name + ": no pixel has grey level " + std::to_string(g) + ", which element class " + std::to_string(c) + " asks for");
+            allowed[c][static_cast<std::size_t>(g)] = true;
+        }
+    }
+    return [labels = std::move(labels), extent, allowed = std::move(allowed)](std::uint32_t cls, vec2 p) {
+        const vec2 f = (p - extent.lo) / (extent.hi - extent.lo);
+        const int x = std::clamp(static_cast<int>(std::floor(f.x * labels.width)), 0, labels.width - 1);
+        const int y = std::clamp(static_cast<int>(std::floor(f.y * labels.height)), 0, labels.height - 1);
+        return cls < allowed.size() && allowed[cls][labels.at(x, y)];
+    };
+}
 
 }  // namespace fabsynth::filigree
