@@ -240,6 +240,56 @@ TEST_CASE("reconstruct: fem triangulation is conforming, exact in area, without 
     CHECK_THROWS_AS(filigree::make_fem_triangulation({rectangle(0, 0, 1, 1)}, std::nan("")), invalid_input);
 }
 
+TEST_CASE("reconstruct: sharp solid corners are cut where they are as wide as asked", "[filigree][reconstruct]") {
+    using namespace recon_test;
+    // A wedge of apex angle 10 degrees at the origin, 10 mm long, closed by a flat end: its apex is cut
+    // where the two sides are 0.5 mm apart, 0.5 / (2 tan 5 deg) = 2.86 mm from it; its 85-degree
+    // corners stay.
+    const double half = 5 * pi / 180, len = 10;
+    const ring2 wedge{{0, 0}, {len, -len * std::tan(half)}, {len, len * std::tan(half)}};
+    const auto cut = filigree::blunt_sharp_corners({polygon_with_holes{wedge, {}}}, pi / 6, 0.5);
+    REQUIRE(cut.size() == 1);
+    double min_x = 1e9, max_x = 0;
+    for (const vec2& p : cut[0].outer) min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
+    const double x_cut = 0.5 / (2 * std::tan(half));
+    CHECK(min_x > x_cut - 0.01);
+    CHECK(min_x < x_cut + 0.125 * 0.5 / std::cos(half) + 0.01);  // the walk's step along the sides
+    CHECK(max_x == Approx(len));
+    const double tip = x_cut * x_cut * std::tan(half);  // area of the tip removed, at x_cut
+    CHECK(area(cut) == Approx(len * len * std::tan(half) - tip).epsilon(0.03));
+    // A ring clipped by the domain where its inner side grazes the edge: a solid cusp between the
+    // edge y = 0 and the inner circle. The triangulation of the coarsened outline keeps its angles;
+    // the raw outline's refinement splits toward the cusp down to h / 200 (well-shaped triangles
+    // of 1e-6 mm^2).
+    const double R = 5, r = 4.6, cy = r + 0.02;
+    ring2 outer, inner;
+    for (int k = 0; k < 720; ++k) {
+        const double a = 2 * pi * k / 720;
+        outer.push_back({R * std::cos(a), cy + R * std::sin(a)});
+        inner.push_back({r * std::cos(-a), cy + r * std::sin(-a)});
+    }
+    const auto ring = polygon_intersection({polygon_with_holes{outer, {inner}}}, {rectangle(-10, 0, 10, 20)});
+    const double h = 0.3;
+    auto smallest = [](const filigree::fem_triangulation& t) {
+        double a = 1e9;
+        for (const auto& f : t.mesh.triangles) {
+            const vec2 p = t.mesh.vertices[f[0]], q = t.mesh.vertices[f[1]], s = t.mesh.vertices[f[2]];
+            a = std::min(a, 0.5 * std::abs(orient2d(p, q, s)));
+        }
+        return a;
+    };
+    const auto raw = filigree::make_fem_triangulation(ring, h);
+    const auto coarse = filigree::make_fem_triangulation(filigree::coarsened_outline(ring, 0.25 * h), h);
+    INFO("raw: min angle " << raw.min_angle_deg << ", smallest triangle " << smallest(raw) << "; coarsened: " << coarse.min_angle_deg << ", "
+                           << smallest(coarse));
+    CHECK(smallest(raw) < 1e-4 * h * h);
+    CHECK(coarse.min_angle_deg >= 20);
+    CHECK(smallest(coarse) > 1e-3 * h * h);
+    CHECK(area(filigree::coarsened_outline(ring, 0.25 * h)) == Approx(area(ring)).epsilon(0.01));
+    CHECK_THROWS_AS(filigree::blunt_sharp_corners(ring, 0, 0.1), invalid_input);
+    CHECK_THROWS_AS(filigree::blunt_sharp_corners(ring, 0.5, 0), invalid_input);
+}
+
 TEST_CASE("structure: a clamped shell strip under pressure matches the Euler-Bernoulli cantilever", "[filigree][structure]") {
     using namespace recon_test;
     // strip b x L along y, clamped at y = 0 (support_fraction 0: the lowest edge only), pressure p;

@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -89,6 +91,33 @@ TEST_CASE("filigree elements: skeletons, widths and covering regions from the bu
         placed p = place(e, instance{0, {0, 0}, 0, 1, e.vertices});
         for (const vec2& v : e.vertices) CHECK(p.covers(v));
         CHECK(e.covering_area > 0);
+    }
+}
+
+TEST_CASE("filigree elements: the motifs of the paper's experiments are one wire each, branching where drawn, with their own widths",
+          "[filigree][element]") {
+    // scripts/make_filigree_motifs.py: the scroll's two curls leave its arch (2 junctions of 3), the
+    // flower's five petals meet the ring (valence 4, 5 at the petal where the centre curl starts), the
+    // spray's four leaves and its tip leaf meet the stem (two arcs and a midrib each).
+    struct motif {
+        std::string name;
+        std::size_t junctions;
+        double width_ratio;  // widest / narrowest stroke, as drawn
+    };
+    for (const motif& m : {motif{"scroll_curls", 2, 1.6 / 1.2}, motif{"flower", 5, 1.4 / 1.2}, motif{"leaf_spray", 5, 1.4 / 0.9}}) {
+        INFO(m.name);
+        const element e = load(m.name, 20, 0);  // width 0: the SVG's stroke widths, scaled with the element
+        std::vector<std::size_t> valence(e.vertices.size(), 0), parent(e.vertices.size());
+        std::iota(parent.begin(), parent.end(), std::size_t{0});
+        std::function<std::size_t(std::size_t)> find = [&](std::size_t x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+        for (const skeleton_edge& ed : e.edges) ++valence[ed[0]], ++valence[ed[1]], parent[find(ed[0])] = find(ed[1]);
+        std::size_t roots = 0, junctions = 0;
+        for (std::size_t v = 0; v < e.vertices.size(); ++v) roots += find(v) == v, junctions += valence[v] >= 3;
+        CHECK(roots == 1);
+        CHECK(junctions == m.junctions);
+        const auto [lo, hi] = std::minmax_element(e.widths.begin(), e.widths.end());
+        CHECK(*hi / *lo == Approx(m.width_ratio).epsilon(1e-6));
+        CHECK(*hi < 0.1 * e.size);  // strips, not blobs: at most a tenth of the element
     }
 }
 

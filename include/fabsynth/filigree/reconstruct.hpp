@@ -214,12 +214,107 @@ inline std::vector<polygon_with_holes> normalized_outline(const std::vector<poly
     return merge_close_vertices(polygon_intersection(strips, domain), arc_tolerance);
 }
 
-/// The outline with vertices closer than `spacing` (mm) merged, the polygons united again: the
-/// input of make_fem_triangulation, where outline features finer than the mesh would only make
-/// slivers (a sliver's drilling stiffness vanishes with its area, so the shell system turns singular).
+/// The outline with every solid corner sharper than `max_angle` (radians) cut off where its tip
+/// reaches `width` (mm): the two sides are followed from the corner by equal arc lengths until
+/// their points are `width` apart (at most 8 * width along each side), and the tip beyond that
+/// chord is removed. A cut whose chord would meet another edge is not made. Such corners come from
+/// a strip that meets the domain's boundary or another strip's side at a grazing angle; a
+/// triangulation cannot give them good triangles, and Ruppert's refinement (make_fem_triangulation)
+/// splits toward their apex down to its shortest edge, leaving triangles of 1e-6 mm^2 whose
+/// drilling stiffness makes the shell system singular. The tip removed is a wedge narrower than
+/// `width`, which does not print as a strip either. Rings come back oriented (outer
+/// counter-clockwise) and united.
+[[nodiscard]] inline std::vector<polygon_with_holes> blunt_sharp_corners(std::vector<polygon_with_holes> polys, double max_angle, double width) {
+    require_positive(width, "blunt_sharp_corners: width (mm)");
+    if (!(std::isfinite(max_angle) && max_angle > 0 && max_angle < std::numbers::pi))
+        throw invalid_input("blunt_sharp_corners: the angle must lie in (0, pi) radians");
+    for (polygon_with_holes& p : polys) orient(p);  // solid on the left of every ring
+    const std::vector<ring2> rings = to_rings(polys);
+    const double cos_max = std::cos(max_angle);
+    auto crosses_any = [&](vec2 a, vec2 b, std::size_t ring, std::size_t from, std::size_t to) {
+        // does chord a-b meet an edge other than ring `ring`'s edges from..to (cyclic, the cut sides)?
+        for (std::size_t r = 0; r < rings.size(); ++r)
+            for (std::size_t i = 0, n = rings[r].size(); i < n; ++i) {
+                if (r == ring && ((from <= to && i >= from && i < to) || (from > to && (i >= from || i < to)))) continue;
+                if (fabsynth::detail::segments_intersect(a, b, rings[r][i], rings[r][(i + 1) % n])) return true;
+            }
+        return false;
+    };
+    std::vector<ring2> out;
+    for (std::size_t r = 0; r < rings.size(); ++r) {
+        const ring2& R = rings[r];
+        const std::size_t n = R.size();
+        std::vector<char> removed(n, 0);
+        std::vector<std::pair<std::size_t, vec2>> insert_after;  // new points after vertex index
+        for (std::size_t b = 0; b < n && n >= 3; ++b) {
+            if (removed[b]) continue;
+            const vec2 pa = R[(b + n - 1) % n], pb = R[b], pc = R[(b + 1) % n];
+            const vec2 u = pa - pb, v = pc - pb;
+            const double lu = glm::length(u), lv = glm::length(v);
+            if (!(lu > 0 && lv > 0) || orient2d(pa, pb, pc) <= 0) continue;  // reflex or flat: no solid tip
+            if (glm::dot(u, v) / (lu * lv) <= cos_max) continue;             // not sharper than max_angle
+            // walk both sides by equal arc lengths s until the points are `width` apart
+            auto point_at = [&](double s, int dir, std::size_t& last) {  // last: index of the last vertex passed
+                std::size_t i = b;
+                for (std::size_t k = 0; k < std::max<std::size_t>(1, n / 2); ++k) {
+                    const std::size_t j = dir > 0 ? (i + 1) % n : (i + n - 1) % n;
+                    const double l = glm::distance(R[i], R[j]);
+                    if (s <= l) {
+                        last = i;
+                        return R[i] + (R[j] - R[i]) * (l > 0 ? s / l : 0.0);
+                    }
+                    s -= l, i = j;
+                }
+                last = n;  // ran out of ring
+                return vec2(0);
+            };
+            const double step = 0.125 * width;
+            for (double s = step; s <= 8 * width; s += step) {
+                std::size_t lb = 0, lf = 0;
+                const vec2 P = point_at(s, -1, lb), Q = point_at(s, +1, lf);
+                if (lb == n || lf == n) break;
+                if (glm::distance(P, Q) < width) continue;
+                // the vertices strictly between P (after lb going back) and Q: lb is the last vertex
+                // passed going backwards, so the removed run is lb .. b .. lf (cyclic)
+                bool clash = false;
+                for (std::size_t i = lb;; i = (i + 1) % n) {
+                    if (removed[i]) clash = true;
+                    if (i == lf) break;
+                }
+                // the chord must not meet the ring's other edges or other rings
+                const std::size_t first_edge = (lb + n - 1) % n, end_edge = (lf + 1) % n;
+                if (clash || crosses_any(P, Q, r, first_edge, end_edge)) break;
+                for (std::size_t i = lb;; i = (i + 1) % n) {
+                    removed[i] = 1;
+                    if (i == lf) break;
+                }
+                insert_after.push_back({lb, P});
+                insert_after.push_back({lb, Q});
+                break;
+            }
+        }
+        ring2 kept;
+        std::size_t next_insert = 0;
+        std::sort(insert_after.begin(), insert_after.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!removed[i]) kept.push_back(R[i]);
+            while (next_insert < insert_after.size() && insert_after[next_insert].first == i) kept.push_back(insert_after[next_insert++].second);
+        }
+        if (kept.size() >= 3) out.push_back(std::move(kept));
+    }
+    if (out.empty()) return {};
+    return polygon_union(out, fill_rule::nonzero);
+}
+
+/// The outline with vertices closer than `spacing` (mm) merged, the polygons united again, and
+/// its solid corners sharper than 60 degrees (below which Ruppert's refinement is not proven to
+/// end) cut where they are `spacing` wide
+/// (blunt_sharp_corners): the input of make_fem_triangulation, where outline features finer than
+/// the mesh would only make slivers (a sliver's drilling stiffness vanishes with its area, so the
+/// shell system turns singular).
 [[nodiscard]] inline std::vector<polygon_with_holes> coarsened_outline(const std::vector<polygon_with_holes>& outline, double spacing) {
     require_positive(spacing, "coarsened_outline: spacing (mm)");
-    return merge_close_vertices(outline, spacing);
+    return blunt_sharp_corners(merge_close_vertices(outline, spacing), std::numbers::pi / 3, spacing);
 }
 
 /// The outline with its pinches bridged: wherever two boundary vertices that are not neighbours
@@ -596,6 +691,38 @@ inline fem_triangulation result(triangulation&& T, double h, double min_angle_de
     const bool finished = detail::cdt::refiner(T, h, opt.min_angle_deg * std::numbers::pi / 180.0, min_edge).run(budget);
 
     return detail::cdt::result(std::move(T), h, opt.min_angle_deg, finished);
+}
+
+/// The shortest edge of a triangulation (mm; infinity if it has no triangle).
+[[nodiscard]] inline double shortest_edge(const fem_triangulation& t) noexcept {
+    double s = std::numeric_limits<double>::infinity();
+    for (const auto& f : t.mesh.triangles)
+        for (int i = 0; i < 3; ++i) s = std::min(s, glm::distance(t.mesh.vertices[f[i]], t.mesh.vertices[f[(i + 1) % 3]]));
+    return s;
+}
+
+/// The shell-FEM triangulation of a printed piece (§5) with target edge h (mm):
+/// make_fem_triangulation of coarsened_outline(outline, h / 4). Merging vertices moves the outline
+/// by up to h / 4, which can leave a wall or a gap between two rings far thinner than the mesh;
+/// refinement then goes down to h / 200 there, and triangles of 1e-6 mm^2 make the shell system
+/// singular (their drilling stiffness scales with their area). Where the triangulation has an edge
+/// shorter than h / 50, the coarsened outline is opened and closed by h / 8 (no wall or gap
+/// thinner than h / 4 is left) and triangulated again; that result is taken when it has no more
+/// pieces than `outline` (the merge may have cut a thin neck, which the closing restores) and
+/// longer shortest edges.
+[[nodiscard]] inline fem_triangulation piece_triangulation(const std::vector<polygon_with_holes>& outline, double h) {
+    require_positive(h, "piece_triangulation: edge length h (mm)");
+    const std::vector<polygon_with_holes> coarse = coarsened_outline(outline, 0.25 * h);
+    fem_triangulation tri = make_fem_triangulation(coarse, h);
+    const double shortest = shortest_edge(tri);
+    if (shortest >= 0.02 * h) return tri;
+    const double r = 0.125 * h;
+    std::vector<polygon_with_holes> f = polygon_offset(polygon_offset(coarse, -r, 0.25 * r), r, 0.25 * r);
+    f = polygon_offset(polygon_offset(f, r, 0.25 * r), -r, 0.25 * r);
+    f = merge_close_vertices(f, 0.5 * r);
+    if (f.size() > outline.size()) return tri;  // the opening would split the piece
+    fem_triangulation filtered = make_fem_triangulation(f, h);
+    return shortest_edge(filtered) > shortest ? filtered : tri;
 }
 
 }  // namespace fabsynth::filigree

@@ -374,7 +374,7 @@ template <control_field F>
             fem_triangulation tri;
         };
         layout best{r.instances, r.skeletons, r.outline, book,
-                    make_fem_triangulation(coarsened_outline(r.outline, 0.25 * h), h)};
+                    piece_triangulation(r.outline, h)};
         const std::uint32_t cls = reinforcement_class(weights);
         reinforcement_loop(
             best, r, opt, [&](const layout& l, double t) { return analyse_structure(l.tri, t, sopt); },
@@ -394,7 +394,7 @@ template <control_field F>
                 optimize_pattern(s, again, res, grow_progress);
                 layout next;
                 next.outline = dr::one_piece(res.skeletons, domain, max_bridge, next.book);
-                next.tri = make_fem_triangulation(coarsened_outline(next.outline, 0.25 * h), h);
+                next.tri = piece_triangulation(next.outline, h);
                 next.instances = std::move(res.instances);
                 next.skeletons = std::move(res.skeletons);
                 return next;
