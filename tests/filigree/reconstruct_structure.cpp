@@ -290,6 +290,25 @@ TEST_CASE("reconstruct: sharp solid corners are cut where they are as wide as as
     CHECK_THROWS_AS(filigree::blunt_sharp_corners(ring, 0.5, 0), invalid_input);
 }
 
+TEST_CASE("reconstruct: a wall far thinner than the mesh is opened before the FEM triangulation", "[filigree][reconstruct]") {
+    using namespace recon_test;
+    // A 10 x 10 mm plate with a 6 x 5 mm hole 2 um above its bottom edge: no sharp corner, so the
+    // coarsened outline keeps the wall, and refinement splits toward it. piece_triangulation opens it
+    // (the hole becomes a notch open at the bottom, still one piece) and keeps every edge >= h / 50.
+    const double h = 1.0;
+    polygon_with_holes plate = rectangle(0, 0, 10, 10);
+    plate.holes.push_back({{2, 0.002}, {2, 5}, {8, 5}, {8, 0.002}});
+    const std::vector<polygon_with_holes> outline{plate};
+    const auto plain = filigree::make_fem_triangulation(filigree::coarsened_outline(outline, 0.25 * h), h);
+    const auto piece = filigree::piece_triangulation(outline, h);
+    INFO("shortest edge: plain " << filigree::shortest_edge(plain) << ", piece " << filigree::shortest_edge(piece));
+    CHECK(filigree::shortest_edge(plain) < 0.02 * h);
+    CHECK(filigree::shortest_edge(piece) >= 0.02 * h);
+    double a = 0;
+    for (const auto& f : piece.mesh.triangles) a += 0.5 * orient2d(piece.mesh.vertices[f[0]], piece.mesh.vertices[f[1]], piece.mesh.vertices[f[2]]);
+    CHECK(a == Approx(100 - 30).epsilon(0.01));  // the plate less the hole, the wall's 0.012 mm^2 and rounded corners aside
+}
+
 TEST_CASE("structure: a clamped shell strip under pressure matches the Euler-Bernoulli cantilever", "[filigree][structure]") {
     using namespace recon_test;
     // strip b x L along y, clamped at y = 0 (support_fraction 0: the lowest edge only), pressure p;
