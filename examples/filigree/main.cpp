@@ -19,8 +19,8 @@
 // flipped so the print looks like the drawing), OUT.3mf (the same mesh, mm; where lib3mf is
 // available), OUT.png (preview), OUT_steps.png (after initialization, placement, boosting and
 // topology cut, like the paper's Fig. 8), OUT_stress.png and OUT_histogram.png (Fig. 10 and 21,
-// with the structural optimization), OUT.json (report). The surface form adds OUT.3mf and
-// OUT_histogram.png. Nothing is written unless everything succeeded. Conventions (exit codes, --quiet,
+// with the structural optimization), OUT.json (report). The surface form writes OUT.stl, OUT.3mf,
+// OUT.obj, OUT.png, OUT_stress.png, OUT_histogram.png and OUT.json. Nothing is written unless everything succeeded. Conventions (exit codes, --quiet,
 // --json): docs/tools.md.
 
 
@@ -234,7 +234,8 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     stl_out.replace_extension(".stl"), obj_out.replace_extension(".obj"), png_out.replace_extension(".png"), json_out.replace_extension(".json");
     threemf_out.replace_extension(".3mf");
     const fs::path hist_out = out.parent_path() / (out.stem().string() + "_histogram.png");
-    tool::check_outputs(inputs, {stl_out, obj_out, png_out, json_out, threemf_out, hist_out});
+    const fs::path stress_out = out.parent_path() / (out.stem().string() + "_stress.png");
+    tool::check_outputs(inputs, {stl_out, obj_out, png_out, json_out, threemf_out, hist_out, stress_out});
     for (const auto& e : elements)
         if (!fs::is_regular_file(e.path)) throw io_error(e.path, 0, "no such element file");
     check_common_ranges(scale, width, opt.reinforcement.thickness, tolerance, opt.synthesis.sigma_d, opt.synthesis.sigma_f, opt.synthesis.max_rounds);
@@ -255,6 +256,7 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     const fs::path threemf_file = outputs.add(threemf_out);
 #endif
     const fs::path hist_file = opt.reinforcement.enabled ? outputs.add(hist_out) : fs::path();
+    const fs::path stress_file = opt.reinforcement.enabled ? outputs.add(stress_out) : fs::path();
 
     progress(0.0, "read mesh");
     triangle_mesh mesh = io::read_mesh(rq.mesh);
@@ -328,6 +330,7 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
 #endif
     io::write_png(png_file, f.preview);
     if (!f.histogram.empty()) io::write_png(hist_file, f.histogram);
+    if (!f.stress_map.empty()) io::write_png(stress_file, f.stress_map);
     write_report(json_file, json_out, report);
     outputs.commit();
     progress(1.0, "write");

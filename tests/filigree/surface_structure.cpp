@@ -194,6 +194,9 @@ TEST_CASE("surface filigree on a cylinder: M_b one piece, watertight solid, shel
     CHECK(rf.dropped_area_fraction < 0.05);
     REQUIRE(rf.analysed);
     CHECK(rf.weak_fraction_phase2.back() == 0.0);
+    CHECK(rf.final_report.node_von_mises.size() == rf.fem.vertices.size());  // Fig. 10's input: the last analysis on its mesh
+    CHECK(rf.final_report.thickness == rf.thickness);
+    CHECK(f.stress_map.empty());  // previews off: no picture drawn
     CHECK(rf.max_von_mises_after <= rf.yield_mpa);
 
     const auto topo = analyze_topology(f.solid);  // recounted here: make_filigree refuses a solid that is not watertight
@@ -269,6 +272,39 @@ TEST_CASE("surface filigree on a cylinder: M_b one piece, watertight solid, shel
         CHECK(s6.rms_ratio > 0.95);
         CHECK(s6.rms_ratio < row.max_ratio_s6);
     }
+}
+
+TEST_CASE("surface stress map (Fig. 10): the analysed mesh coloured by stress over the yield, weak nodes magenta", "[filigree][surface][structure]") {
+    // A 20 x 20 mm square in the x-z plane, seen from the side the previews use for up = z; every
+    // node at 60 MPa over a 40 MPa yield is weak (magenta: red and blue, no green), at 4 MPa blue.
+    triangle_mesh sq;
+    sq.vertices = {{0, 0, 0}, {20, 0, 0}, {20, 0, 20}, {0, 0, 20}};
+    sq.faces = {{0, 1, 2}, {0, 2, 3}};
+    structural_report rep;
+    rep.yield = 40;
+    auto count = [](const image8& img, auto&& is) {
+        std::size_t n = 0;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) n += is(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
+        return n;
+    };
+    auto magenta = [](int r, int g, int b) { return g < 40 && r > 80 && b > 80; };
+    auto blue = [](int r, int g, int b) { return b > r + 60 && b > g + 60; };
+    rep.node_von_mises = {60, 60, 60, 60};
+    const image8 weak = surface_stress_map(sq, rep, {0, 0, 1});
+    REQUIRE(weak.channels == 3);
+    CHECK(weak.height == 800);  // two 800 x 800 views side by side
+    CHECK(count(weak, magenta) > 100000);  // the square fills much of both 800 x 800 views
+    CHECK(count(weak, blue) == 0);
+    rep.node_von_mises = {4, 4, 4, 4};
+    const image8 calm = surface_stress_map(sq, rep, {0, 0, 1});
+    CHECK(count(calm, magenta) == 0);
+    CHECK(count(calm, blue) > 100000);
+    rep.node_von_mises = {4, 4, 4};
+    CHECK_THROWS_AS(surface_stress_map(sq, rep, {0, 0, 1}), invalid_input);
+    rep.node_von_mises = {4, 4, 4, 4};
+    rep.yield = 0;
+    CHECK_THROWS_AS(surface_stress_map(sq, rep, {0, 0, 1}), invalid_input);
 }
 
 }  // namespace surface_struct_test

@@ -117,6 +117,7 @@ struct surface_filigree {
     std::size_t solid_components = 0;            ///< connected pieces of `solid`
     image8 preview;                              ///< RGB, two 800 x 800 views: the base mesh with the solid, from the side and the opposite side
     image8 histogram;                            ///< Fig. 21: nodal stress before and after §5 (RGB; empty without analysis)
+    image8 stress_map;                           ///< Fig. 10: surface_stress_map of the final analysis (RGB, as the preview; empty without analysis)
     std::vector<std::size_t> instances_per_class;  ///< of the synthesized layout (synthesis.instances, before §5's insertions), per class
     filigree_timings seconds;
 };
@@ -136,18 +137,44 @@ inline triangle_mesh with_solid(const triangle_mesh& base, const triangle_mesh& 
     return both;
 }
 
+// The previews' view: from a side perpendicular to up, up upward (render_two_sides adds the
+// opposite side); 800 x 800 pixels per side.
+inline render_view side_view(vec3 up) {
+    const vec3 u = glm::normalize(up);
+    const vec3 side = std::abs(u.z) < 0.9 ? glm::normalize(glm::cross(u, vec3(0, 0, 1))) : vec3(0, 1, 0);
+    return {side, u};
+}
+inline render_options preview_look() {
+    render_options look;
+    look.width = 800, look.height = 800;
+    return look;
+}
+
 // The base with the solid from a side perpendicular to up and from the opposite side, up upward.
 inline image8 surface_preview(const triangle_mesh& base, const triangle_mesh& solid, vec3 up) {
     std::vector<std::array<std::uint8_t, 3>> colours;
     const triangle_mesh scene = with_solid(base, solid, colours);
-    render_options look;
-    look.width = 800, look.height = 800;
-    const vec3 u = glm::normalize(up);
-    const vec3 side = std::abs(u.z) < 0.9 ? glm::normalize(glm::cross(u, vec3(0, 0, 1))) : vec3(0, 1, 0);
-    return render_two_sides(scene, {side, u}, look, colours);
+    return render_two_sides(scene, side_view(up), preview_look(), colours);
 }
 
 }  // namespace detail::pipeline
+
+/// Fig. 10 on a surface: the analysed mesh `fem` (mm; surface_reinforcement_result::fem) seen as the
+/// preview sees the piece (from a side perpendicular to `up` and from the opposite side, 800 x 800
+/// pixels each, RGB), each vertex coloured by its von Mises stress over the yield stress
+/// (`report.node_von_mises` / `report.yield`, MPa; the colours of stress_map_image: blue 0, green
+/// half the yield, red at the yield, magenta above it: the weak nodes), shaded, interpolated over the
+/// faces. Throws invalid_input unless the report holds one stress per vertex of `fem` and a yield > 0.
+[[nodiscard]] inline image8 surface_stress_map(const triangle_mesh& fem, const structural_report& report, vec3 up) {
+    if (report.node_von_mises.size() != fem.vertices.size() || fem.faces.empty())
+        throw invalid_input("surface stress map: the report holds " + std::to_string(report.node_von_mises.size()) + " nodal stresses for a mesh of " +
+                            std::to_string(fem.vertices.size()) + " vertices");
+    if (!(report.yield > 0)) throw invalid_input("surface stress map: the yield stress must be > 0 MPa");
+    std::vector<std::array<std::uint8_t, 3>> colours;
+    colours.reserve(fem.vertices.size());
+    for (const double s : report.node_von_mises) colours.push_back(detail::figures::to_rgb(detail::figures::stress_colour(s / report.yield)));
+    return render_two_sides(fem, detail::pipeline::side_view(up), detail::pipeline::preview_look(), colours);
+}
 
 /// The surface pipeline on a prepared base (mesh, region, fields; opt's up, region_* and
 /// vertex_scale were used to build it, the rest is read here): synthesize_on_surface,
@@ -190,7 +217,10 @@ template <progress_callback P = no_progress>
     report_progress(progress, 0.9, "render");
     t = dp::clock::now();
     if (opt.previews) r.preview = dp::surface_preview(base.mesh(), r.solid, opt.up);
-    if (opt.previews && r.reinforcement.analysed) r.histogram = stress_histogram_plot(r.reinforcement);
+    if (opt.previews && r.reinforcement.analysed) {
+        r.histogram = stress_histogram_plot(r.reinforcement);
+        r.stress_map = surface_stress_map(r.reinforcement.fem, r.reinforcement.final_report, opt.up);
+    }
     r.seconds.previews = dp::since(t);
 
     r.instances_per_class.assign(classes.size(), 0);

@@ -154,6 +154,8 @@ struct surface_reinforcement_result : structural_record {
     std::vector<surface_instance> instances;
     std::vector<surface_skeleton> skeletons;
     triangle_mesh baked;                   ///< M_b, largest piece
+    triangle_mesh fem;                     ///< the analysed mesh (M_b, close vertices merged; empty without analysis)
+    structural_report final_report;        ///< the last analysis (stresses per fem vertex; empty without analysis)
 };
 
 namespace detail::surface {
@@ -230,8 +232,11 @@ namespace detail::surface {
                 return next;
             },
             [&](const layout& l, double t, const progress_span& thicken_progress) {
-                return thicken_with([&](double tt) { return analyse_surface_structure(l.fem, tt, opt.up, sopt); }, t,
-                                    thickening_options{.max_thickness = opt.base.max_thickness}, thicken_progress);
+                thickening_result th = thicken_with([&](double tt) { return analyse_surface_structure(l.fem, tt, opt.up, sopt); }, t,
+                                                    thickening_options{.max_thickness = opt.base.max_thickness}, thicken_progress);
+                r.fem = l.fem;
+                r.final_report = th.report;
+                return th;
             },
             progress);
         r.instances = std::move(best.instances), r.skeletons = std::move(best.skeletons), r.baked = std::move(best.baked);
