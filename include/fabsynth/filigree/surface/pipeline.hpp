@@ -166,7 +166,8 @@ inline image8 surface_preview(const triangle_mesh& base, const triangle_mesh& so
 /// half the yield, red at the yield, magenta above it: the weak nodes), shaded, interpolated over the
 /// faces. Throws invalid_input unless the report holds one stress per vertex of `fem` and a yield > 0.
 [[nodiscard]] inline image8 surface_stress_map(const triangle_mesh& fem, const structural_report& report, vec3 up) {
-    if (report.node_von_mises.size() != fem.vertices.size() || fem.faces.empty())
+    if (fem.faces.empty()) throw invalid_input("surface stress map: the analysed mesh has no face");
+    if (report.node_von_mises.size() != fem.vertices.size())
         throw invalid_input("surface stress map: the report holds " + std::to_string(report.node_von_mises.size()) + " nodal stresses for a mesh of " +
                             std::to_string(fem.vertices.size()) + " vertices");
     if (!(report.yield > 0)) throw invalid_input("surface stress map: the yield stress must be > 0 MPa");
