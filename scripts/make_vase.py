@@ -2,7 +2,10 @@
 """Writes data/meshes/vase.obj: an open vase (surface of revolution with a closed bottom), the
 open base surface of the filigree main job (filigree-synthesis.md Table 3 uses a 5.4 k-vertex
 vase). Profile r(z) = 20 + 9 sin(pi z / 70) mm for 0 <= z <= 90 mm, 72 segments around, rings
-every 1.2 mm, the bottom a fan of rings; z is up. Deterministic; run from the repository root."""
+every 1.2 mm, the bottom a fan of rings; z is up. Also writes data/filigree/vase_halves.txt, one
+label per face in the OBJ's face order (the filigree tool's --face-labels): 0 where the face's
+centroid lies below z = 45 mm (the bottom and the lower half), 1 above. Deterministic; run from
+the repository root."""
 import math
 
 AROUND, HEIGHT, DZ = 72, 90.0, 1.2
@@ -57,4 +60,7 @@ with open("data/meshes/vase.obj", "w") as f:
         f.write("v %.6f %.6f %.6f\n" % v)
     for t in faces:
         f.write("f %d %d %d\n" % (t[0] + 1, t[1] + 1, t[2] + 1))
+with open("data/filigree/vase_halves.txt", "w") as f:
+    for t in faces:
+        f.write("%d\n" % (0 if sum(verts[k][2] for k in t) / 3 < 45.0 else 1))
 print(len(verts), "vertices", len(faces), "faces")

@@ -6,8 +6,8 @@
 //            [--rotation-image R.png --rotation-range A0 A1] [--thickness MM] [--max-thickness MM]
 //            [--material abs|pla|petg|pa12|316l|ti64] [--support-edge SIDE | --support-box X0 Y0 X1 Y1 | --hang X Y]
 //            [--upright] [--no-structure] [--seed S] -o OUT.svg
-//   filigree --element E.svg ... --mesh M.obj [--mesh-size MM] [--region FACES.txt | --region-curve C.csv] [--up X Y Z]
-//            [--field-scale-file F.txt] --scale MM [--width MM] [--thickness MM] [--seed S] -o OUT.stl
+//   filigree --element E.svg[:WEIGHT][@L1,L2] ... --mesh M.obj [--mesh-size MM] [--region FACES.txt | --region-curve C.csv]
+//            [--face-labels LABELS.txt] [--up X Y Z] [--field-scale-file F.txt] --scale MM [--width MM] [--thickness MM] [--seed S] -o OUT.stl
 //            (on a base surface: OUT.stl printable solid, OUT.obj baked M_b, OUT.png, OUT.json)
 //
 // The tool reads the inputs, makes one library call (make_filigree in
@@ -105,7 +105,7 @@ element_arg parse_element(std::string a) {
 
 // The --mesh form's inputs.
 struct surface_request {
-    std::string mesh, region, region_curve, scale_file, directions;
+    std::string mesh, region, region_curve, scale_file, directions, face_labels;
     std::vector<double> up{0, 0, 1};
     double mesh_size = 0;  // 0: the mesh is in mm as it is
 };
@@ -221,14 +221,16 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     const auto t_start = std::chrono::steady_clock::now();
     std::vector<element_arg> elements;
     for (const std::string& a : element_args) elements.push_back(parse_element(a));
-    for (const element_arg& e : elements)
-        if (!e.labels.empty()) throw invalid_input("--element " + e.path + "@...: element sets per region are for the planar form (--labels)");
+    const bool any_labels = std::any_of(elements.begin(), elements.end(), [](const element_arg& e) { return !e.labels.empty(); });
+    if (any_labels != !rq.face_labels.empty())
+        throw invalid_input(any_labels ? "--element E.svg@L with --mesh needs --face-labels LABELS.txt" : "--face-labels needs an element given as E.svg@L1,L2");
     std::vector<fs::path> inputs{rq.mesh};
     for (const auto& e : elements) inputs.emplace_back(e.path);
     if (!rq.region.empty()) inputs.emplace_back(rq.region);
     if (!rq.region_curve.empty()) inputs.emplace_back(rq.region_curve);
     if (!rq.scale_file.empty()) inputs.emplace_back(rq.scale_file);
     if (!rq.directions.empty()) inputs.emplace_back(rq.directions);
+    if (!rq.face_labels.empty()) inputs.emplace_back(rq.face_labels);
     const fs::path out(out_path);
     fs::path stl_out = out, obj_out = out, png_out = out, json_out = out, threemf_out = out;
     stl_out.replace_extension(".stl"), obj_out.replace_extension(".obj"), png_out.replace_extension(".png"), json_out.replace_extension(".json");
@@ -289,6 +291,16 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
             opt.directions.push_back({static_cast<std::uint32_t>(v[k]), vec3(v[k + 1], v[k + 2], v[k + 3])});
         }
     }
+    if (any_labels) {  // one label per face, in the mesh's face order (polygons as read: fan triangles)
+        std::vector<int> labels;
+        for (const double x : io::read_numbers(rq.face_labels)) {
+            if (x < 0 || x > 255 || x != std::floor(x)) throw invalid_input(rq.face_labels + ": label " + std::to_string(x) + " is not an integer in 0-255");
+            labels.push_back(static_cast<int>(x));
+        }
+        std::vector<std::vector<int>> class_labels;
+        for (const element_arg& e : elements) class_labels.push_back(e.labels);
+        opt.class_allowed = face_label_regions(labels, mesh.faces.size(), class_labels, "--face-labels " + rq.face_labels);
+    }
     const surface_filigree_base base(std::move(mesh), opt);
     check_work(base.region().area, smallest_covering_area(classes, weights), opt, max_elements, "a region of ");
 
@@ -302,6 +314,7 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
         {"mesh", {{"file", rq.mesh}, {"vertices", base.mesh().vertices.size()}, {"faces", base.mesh().faces.size()},
                   {"region_faces", base.region().faces.size()}, {"region_area_mm2", base.region().area}}},
         {"direction_constraints", opt.directions.size()},
+        {"face_labels", rq.face_labels},
         {"instances", syn.instances.size()},
         {"instances_per_class", f.instances_per_class},
         {"local_parameterizations", {{"built", syn.maps_built}, {"seconds_summed_over_threads", syn.map_seconds}}},
@@ -321,6 +334,8 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
                      {"bake_and_structure", f.seconds.structure}, {"printable_mesh", f.seconds.mesh}, {"total", seconds_since(t_start)}}},
     };
     report.update(layout_fields(syn));
+    for (std::size_t c = 0; c < classes.size(); ++c)
+        report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"labels", elements[c].labels}, {"instances", f.instances_per_class[c]}});
 
     progress(0.95, "write");
     io::write_stl(stl_file, f.solid);
@@ -429,6 +444,11 @@ int main(int argc, char** argv) {
         ->needs(o_mesh);
     app.add_option("--up", on_mesh.up, "X Y Z: the elements' up vector, projected onto the surface (default 0 0 1)")->expected(3)->needs(o_mesh);
     app.add_option("--field-scale-file", on_mesh.scale_file, "text file of one element scale factor per mesh vertex")
+        ->check(CLI::ExistingFile)
+        ->needs(o_mesh);
+    app.add_option("--face-labels", on_mesh.face_labels,
+                   "text file of one label (0-255) per face of the base mesh, in its face order: regions; an element given as "
+                   "E.svg@L1,L2 is placed only on faces labelled L1 or L2")
         ->check(CLI::ExistingFile)
         ->needs(o_mesh);
     app.add_option("--directions", on_mesh.directions,

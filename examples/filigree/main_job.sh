@@ -42,3 +42,8 @@ echo "== filigree on the bunny"
   -o "$OUT_DIR/filigree_bunny.stl"
 echo "== filigree on the vase"
 "$fg" --element "$el/c_scroll.svg" --mesh "$DATA/meshes/vase.obj" --up 0 0 1 --scale 14 --width 0.8 --seed 1 -o "$OUT_DIR/filigree_vase.stl"
+# element sets per region on a mesh: C-scrolls on the vase's lower half, leaves on its upper half
+# (data/filigree/vase_halves.txt: one label per face, scripts/make_vase.py)
+echo "== filigree on the vase, two element sets"
+"$fg" --element "$el/c_scroll.svg@0" --element "$el/leaf.svg@1" --face-labels "$el/vase_halves.txt" --mesh "$DATA/meshes/vase.obj" --up 0 0 1 \
+  --scale 14 --width 0.8 --seed 1 -o "$OUT_DIR/filigree_vase_regions.stl"

@@ -495,6 +495,9 @@ TEST_CASE("filigree --mesh: bad input is refused with the documented exit code a
     const std::string broken = write_file("filigree_broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
     const std::string tiny_loop = write_file("filigree_tiny_loop.csv", "29,0,45\n29,0.01,45\n29,0,45.01\n");
     const std::string far_loop = write_file("filigree_far_loop.csv", "29,0,45\n60,0,50\n29,0,55\n");
+    const std::string halves = (data_dir / "filigree/vase_halves.txt").string();  // 0 below z = 45 mm, 1 above
+    const std::string short_labels = write_file("filigree_short_labels.txt", "0\n1\n");
+    const std::string big_label = write_file("filigree_big_label.txt", "0\n256\n");
     auto args = [&](std::vector<std::string> extra) {
         std::vector<std::string> a = {"--element", el, "--scale", "14", "--width", "0.8", "-o", out};
         a.insert(a.end(), extra.begin(), extra.end());
@@ -510,6 +513,16 @@ TEST_CASE("filigree --mesh: bad input is refused with the documented exit code a
              {"a region curve that encloses nothing", args({"--mesh", vase, "--region-curve", tiny_loop}), 2, "does not separate"},
              {"a region curve off the mesh", args({"--mesh", vase, "--region-curve", far_loop}), 2, "point 1 lies farther"},
              {"--region with --region-curve", args({"--mesh", vase, "--region", bad_region, "--region-curve", far_loop}), 2, "excludes"},
+             {"an element set without --face-labels", {"--element", el + "@0", "--mesh", vase, "--scale", "14", "-o", out}, 2, "--face-labels"},
+             {"--face-labels without an element set", args({"--mesh", vase, "--face-labels", halves}), 2, "E.svg@L1,L2"},
+             {"--face-labels of the wrong length", {"--element", el + "@0", "--mesh", vase, "--face-labels", short_labels, "--scale", "14", "-o", out}, 2,
+              "2 labels for a mesh of 11880 faces"},
+             {"a label no face has", {"--element", el + "@7", "--mesh", vase, "--face-labels", halves, "--scale", "14", "-o", out}, 2,
+              "no face has label 7"},
+             {"a label outside 0-255", {"--element", el + "@0", "--mesh", vase, "--face-labels", big_label, "--scale", "14", "-o", out}, 2,
+              "not an integer in 0-255"},
+             {"--face-labels without --mesh", {"--element", el + "@0", "--rect", "50", "50", "--face-labels", halves, "--scale", "14", "-o", out}, 2,
+              "--mesh"},
          })
         check_case("filigree", c);
     for (const char* ext : {".stl", ".obj", ".png", ".json"}) CHECK_FALSE(fs::exists(work_dir / (std::string("filigree_mesh_bad") + ext)));

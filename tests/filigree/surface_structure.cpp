@@ -276,29 +276,36 @@ TEST_CASE("surface filigree on a cylinder: M_b one piece, watertight solid, shel
 TEST_CASE("surface stress map (Fig. 10): the analysed mesh coloured by stress over the yield, weak nodes magenta", "[filigree][surface][structure]") {
     // A 20 x 20 mm square in the x-z plane, seen from the side the previews use for up = z; every
     // node at 60 MPa over a 40 MPa yield is weak (magenta: red and blue, no green), at 4 MPa blue.
+    // The two views come first; the legend's 260-pixel column right of them shows the whole scale.
     triangle_mesh sq;
     sq.vertices = {{0, 0, 0}, {20, 0, 0}, {20, 0, 20}, {0, 0, 20}};
     sq.faces = {{0, 1, 2}, {0, 2, 3}};
     structural_report rep;
     rep.yield = 40;
-    auto count = [](const image8& img, auto&& is) {
+    auto count_in = [](const image8& img, int x0, int x1, auto&& is) {
         std::size_t n = 0;
         for (int y = 0; y < img.height; ++y)
-            for (int x = 0; x < img.width; ++x) n += is(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
+            for (int x = x0; x < x1; ++x) n += is(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
         return n;
     };
+    auto count = [&](const image8& img, auto&& is) { return count_in(img, 0, img.width - 260, is); };  // the views
     auto magenta = [](int r, int g, int b) { return g < 40 && r > 80 && b > 80; };
     auto blue = [](int r, int g, int b) { return b > r + 60 && b > g + 60; };
     rep.node_von_mises = {60, 60, 60, 60};
     const image8 weak = surface_stress_map(sq, rep, {0, 0, 1});
     REQUIRE(weak.channels == 3);
-    CHECK(weak.height == 800);  // two 800 x 800 views side by side
+    CHECK(weak.height == 800);  // two 800 x 800 views side by side, then the legend
+    CHECK(weak.width >= 1600 + 260);
     CHECK(count(weak, magenta) > 100000);  // the square fills much of both 800 x 800 views
     CHECK(count(weak, blue) == 0);
     rep.node_von_mises = {4, 4, 4, 4};
     const image8 calm = surface_stress_map(sq, rep, {0, 0, 1});
     CHECK(count(calm, magenta) == 0);
     CHECK(count(calm, blue) > 100000);
+    for (const image8* img : {&weak, &calm}) {  // the legend: blue at 0 up to magenta above the yield, whatever the stresses
+        CHECK(count_in(*img, img->width - 260, img->width, magenta) > 500);
+        CHECK(count_in(*img, img->width - 260, img->width, blue) > 500);
+    }
     rep.node_von_mises = {4, 4, 4};
     CHECK_THROWS_AS(surface_stress_map(sq, rep, {0, 0, 1}), invalid_input);
     rep.node_von_mises = {4, 4, 4, 4};

@@ -198,4 +198,48 @@ TEST_CASE("surface synthesis on a cylinder band: in the region, on the surface, 
     }
 }
 
+TEST_CASE("surface element sets per region (Fig. 1c): each class only on the faces its labels name, both halves filled",
+          "[filigree][surface][slow]") {
+    // A cylinder band labelled 0 below z = 25 and 1 above; S-scrolls may lie on 0, C-scrolls on 1.
+    const std::vector<element> cls{load_element("s_curl", 12), load_element("c_scroll", 12)};
+    const std::vector<double> w{1.0, 1.0};
+    fabsynth::test::surface_setup band(fabsynth::test::cylinder(25, 50, 64, 2.5), {0, 0, 1});
+    std::vector<int> labels;
+    for (const auto& f : band.mesh.faces)
+        labels.push_back((band.mesh.vertices[f[0]].z + band.mesh.vertices[f[1]].z + band.mesh.vertices[f[2]].z) / 3 < 25 ? 0 : 1);
+    synthesis_options so;
+    so.seed = 3;
+    so.max_rounds = 1;
+    auto on_wrong_half = [&](const std::vector<surface_instance>& in) {
+        std::size_t n = 0;
+        for (const surface_instance& s : in) n += labels[s.anchor.face] != static_cast<int>(s.shape.cls);
+        return n;
+    };
+    const auto free = synthesize_on_surface(cls, w, band.region, band.field(), so);
+    REQUIRE(on_wrong_half(free.instances) > 3);  // without the sets both classes spread over both halves
+    band.region.class_allowed = face_label_regions(labels, band.mesh.faces.size(), {{0}, {1}});
+    const auto sets = synthesize_on_surface(cls, w, band.region, band.field(), so);
+    CHECK(on_wrong_half(sets.initial) == 0);
+    CHECK(on_wrong_half(sets.instances) == 0);  // placement, boosting and the merges keep to it
+    std::size_t per_class[2] = {0, 0};
+    for (const surface_instance& s : sets.instances) ++per_class[s.shape.cls];
+    CHECK(per_class[0] >= 5);
+    CHECK(per_class[1] >= 5);
+    CHECK(sets.energy_final < sets.energy_initial);
+}
+
+TEST_CASE("face_label_regions: the count, the range and the classes' labels are checked by name", "[filigree][surface]") {
+    const std::vector<int> labels{0, 0, 7, 7};
+    const auto allowed = face_label_regions(labels, 4, {{}, {7}});
+    CHECK(allowed(0, 0));
+    CHECK(allowed(0, 2));
+    CHECK_FALSE(allowed(1, 1));
+    CHECK(allowed(1, 3));
+    CHECK_FALSE(allowed(2, 3));  // no such class
+    CHECK_FALSE(allowed(1, 9));  // no such face
+    CHECK_THROWS_WITH(face_label_regions(labels, 5, {{0}}), Catch::Contains("4 labels for a mesh of 5 faces"));
+    CHECK_THROWS_WITH(face_label_regions({0, 300, 0, 0}, 4, {{0}}), Catch::Contains("face 1 has label 300"));
+    CHECK_THROWS_WITH(face_label_regions(labels, 4, {{3}}, "bands.txt"), Catch::Contains("bands.txt: no face has label 3"));
+}
+
 }  // namespace surface_synth_test

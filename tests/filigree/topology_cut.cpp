@@ -1,6 +1,6 @@
 // topology_cut.hpp (filigree-synthesis.md §4.5): case 1 on a T with a short stub, case 2 on a
 // lens of two loops (Fig. 9b) and on a loop branch against a dangling branch (Fig. 9d) with the
-// importance of eq. 4 worked out by hand, a cut refused because it would isolate a third element,
+// importance of eq. 4 worked out by hand, case 1 at a crossing case 2 leaves in a cluster, a cut refused because it would isolate a third element,
 // no crossings, a randomized check against a brute-force connectivity oracle, the same cut with
 // every skeleton in a random frame of its own (topology_cut_in_frames; the random patterns hold
 // exact copies of a segment, which must stay non-crossing), determinism and input errors.
@@ -362,6 +362,29 @@ TEST_CASE("topology cut: a conflicting branch may split its element when both re
     CHECK(v[0].total_length() == Approx(40.0));
     CHECK(v[1].total_length() == Approx(2.0 * (7.0 + c)));
     CHECK(pieces(v[1]) == 2);
+    CHECK(pattern_connected(v));
+}
+
+TEST_CASE("topology cut: a crossing that case 2 leaves among close crossings gets case 1", "[filigree][topology_cut]") {
+    // By hand, widths 0.8, all three crossings one cluster (close_intersections 30 mm). P is a
+    // hairpin: bottom strand y = 0 from x = -10 to 10, up to y = 2, top strand back to x = -10
+    // (42 mm). Q comes up x = 0 from y = -5 to 5, right to x = 5, down to (5, 1) between the strands.
+    // Sites: a (0, 0), b (0, 2), c (5, 2). P's subgraphs: {a} 10, {a, c} 17, {b, c} 5, {b} 10;
+    // Q's: {a} 5, {a, b} 2, {b, c} 11, {c} 1. Only {b, c} is on both: eq. 4 gives P's 5 + 10 = 15
+    // and Q's 11 + 1 = 12, so Q's arc goes and takes its 1 mm tail along (< 1.5 x 0.8 mm). That
+    // leaves both skeletons passing through a: case 1 there cuts the shortest dangling arm, Q's
+    // 5 mm stem below P (P's is 10), and Q ends as the 2 mm rung between the strands.
+    std::vector<skel> v{polyline({{-10, 0}, {10, 0}, {10, 2}, {-10, 2}}, 0.8), polyline({{0, -5}, {0, 5}, {5, 5}, {5, 1}}, 0.8)};
+    topology_cut_options opt;
+    opt.close_intersections = 30.0;
+    const auto r = run(v, {{0, 1}}, opt);
+    CHECK(r.branches_cut == 1);
+    CHECK(r.protrusions_trimmed == 1);
+    CHECK(r.cuts_refused_for_connectivity == 0);
+    CHECK(v[0].total_length() == Approx(42.0));
+    CHECK(v[1].total_length() == Approx(2.0));
+    CHECK(has_edge_on(v[1], {0, 0}, {0, 2}));
+    CHECK_FALSE(has_edge_on(v[1], {0, -5}, {0, -1e-3}));  // the stem that crossed P at a
     CHECK(pattern_connected(v));
 }
 

@@ -57,6 +57,27 @@ namespace detail::figures {
     return b;
 }
 
+// The stress maps' legend in the column of `cv` from x = bx - 10 on, between the rows 0 and
+// height: the thickness at the top, the colour bar (0 MPa at the bottom, the yield at the top, the
+// weak colour above it, 30 pixels wide) and the count of weak nodes under it. Needs a column
+// 260 pixels wide and a height of at least 420 pixels.
+inline void draw_stress_legend(canvas& cv, int bx, int height, const structural_report& rep) {
+    const int by0 = 60, by1 = height - 60;
+    const int weak_h = 30;
+    cv.rect(bx, by0, bx + 30, by0 + weak_h, to_rgb(stress_colour(2.0)));
+    for (int y = by0 + weak_h + 4; y <= by1; ++y)
+        cv.rect(bx, y, bx + 30, y, to_rgb(stress_colour(static_cast<double>(by1 - y) / (by1 - by0 - weak_h - 4))));
+    cv.text(bx + 40, by0 + weak_h / 2 - 7, "WEAK");
+    cv.text(bx + 40, by0 + weak_h + 4, mpa(rep.yield));
+    cv.text(bx + 40, (by0 + weak_h + 4 + by1) / 2 - 7, mpa(rep.yield / 2));
+    cv.text(bx + 40, by1 - 14, "0 MPA");
+    char line[64];
+    std::snprintf(line, sizeof line, "T = %.3g MM", rep.thickness);
+    cv.text(bx - 10, 20, line);
+    std::snprintf(line, sizeof line, "%zu WEAK", rep.weak_nodes.size());
+    cv.text(bx - 10, by1 + 24, line);
+}
+
 }  // namespace detail::figures
 
 /// Fig. 10: the triangulation `tri` (mm, domain frame, y down as drawn) filled with the colour of
@@ -96,21 +117,7 @@ namespace detail::figures {
                 cv.put(x, y, df::to_rgb(df::stress_colour(l0 * ra + l1 * rb + l2 * rc)));
             }
     }
-    // colour bar: 0 at the bottom, the yield at the top, the weak colour above it
-    const int bx = w + 30, by0 = 60, by1 = std::max(h, 420) - 60;
-    const int weak_h = 30;
-    cv.rect(bx, by0, bx + 30, by0 + weak_h, df::to_rgb(df::stress_colour(2.0)));
-    for (int y = by0 + weak_h + 4; y <= by1; ++y)
-        cv.rect(bx, y, bx + 30, y, df::to_rgb(df::stress_colour(static_cast<double>(by1 - y) / (by1 - by0 - weak_h - 4))));
-    cv.text(bx + 40, by0 + weak_h / 2 - 7, "WEAK");
-    cv.text(bx + 40, by0 + weak_h + 4, df::mpa(rep.yield));
-    cv.text(bx + 40, (by0 + weak_h + 4 + by1) / 2 - 7, df::mpa(rep.yield / 2));
-    cv.text(bx + 40, by1 - 14, "0 MPA");
-    char line[64];
-    std::snprintf(line, sizeof line, "T = %.3g MM", rep.thickness);
-    cv.text(bx - 10, 20, line);
-    std::snprintf(line, sizeof line, "%zu WEAK", rep.weak_nodes.size());
-    cv.text(bx - 10, by1 + 24, line);
+    df::draw_stress_legend(cv, w + 30, std::max(h, 420), rep);
     return cv.img;
 }
 

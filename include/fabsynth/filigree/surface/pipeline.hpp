@@ -11,6 +11,7 @@
 ///   fg::surface_filigree_options so;               // the common options + up vector, region, per-vertex scale
 ///   so.up = {0, 0, 1};                             // the elements' up, projected on the surface
 ///   so.region_faces = std::vector<std::uint32_t>{...};  // or so.region_curve (points on the mesh); neither: all of it
+///   so.class_allowed = fg::face_label_regions(labels, mesh.faces.size(), {{0}, {1}});  // optional: class 0 on faces labelled 0, class 1 on 1
 ///   const fg::surface_filigree s = fg::make_filigree(classes, weights, mesh, so);   // mesh in mm
 ///   s.solid;         // printable watertight solid (eq. 9), s.reinforcement.baked = M_b
 ///   s.preview;       // RGB: the base mesh with the solid, seen from two sides
@@ -22,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -58,6 +60,10 @@ struct surface_filigree_options : filigree_options {
     /// User directions at mesh vertices (§7.2, Fig. 16a's sketched constraints), harmonically
     /// interpolated over the surface (surface/field.hpp); empty: the elements follow `up` everywhere.
     std::vector<direction_constraint> directions;
+    /// Element sets per region on the mesh (Fig. 1c): whether class `cls` may have an instance's
+    /// reference point on mesh face `face` (0-based); empty: every class everywhere.
+    /// face_label_regions (surface/space.hpp) builds one from a label per face.
+    std::function<bool(std::uint32_t cls, std::uint32_t face)> class_allowed;
     double solid_cell = 0;                    ///< grid spacing of the thickening, mm; 0: a third of the final thickness
 };
 
@@ -84,6 +90,11 @@ private:
         return m;
     }
     surface_region make_region(const surface_filigree_options& opt) const {
+        surface_region r = region_of(opt);
+        r.class_allowed = opt.class_allowed;
+        return r;
+    }
+    surface_region region_of(const surface_filigree_options& opt) const {
         if (opt.region_faces && opt.region_curve) throw invalid_input("filigree: give region_faces or region_curve, not both");
         if (opt.region_faces)
             return opt.region_name.empty() ? surface_region::of_faces(patcher_, *opt.region_faces) : surface_region::of_faces(patcher_, *opt.region_faces, opt.region_name);
@@ -161,7 +172,7 @@ inline image8 surface_preview(const triangle_mesh& base, const triangle_mesh& so
 
 /// Fig. 10 on a surface: the analysed mesh `fem` (mm; surface_reinforcement_result::fem) seen as the
 /// preview sees the piece (from a side perpendicular to `up` and from the opposite side, 800 x 800
-/// pixels each, RGB), each vertex coloured by its von Mises stress over the yield stress
+/// pixels each, then the legend of stress_map_image in a 260-pixel column, RGB), each vertex coloured by its von Mises stress over the yield stress
 /// (`report.node_von_mises` / `report.yield`, MPa; the colours of stress_map_image: blue 0, green
 /// half the yield, red at the yield, magenta above it: the weak nodes), shaded, interpolated over the
 /// faces. Throws invalid_input unless the report holds one stress per vertex of `fem` and a yield > 0.
@@ -174,7 +185,13 @@ inline image8 surface_preview(const triangle_mesh& base, const triangle_mesh& so
     std::vector<std::array<std::uint8_t, 3>> colours;
     colours.reserve(fem.vertices.size());
     for (const double s : report.node_von_mises) colours.push_back(detail::figures::to_rgb(detail::figures::stress_colour(s / report.yield)));
-    return render_two_sides(fem, detail::pipeline::side_view(up), detail::pipeline::preview_look(), colours);
+    const image8 views = render_two_sides(fem, detail::pipeline::side_view(up), detail::pipeline::preview_look(), colours);
+    canvas cv(views.width + 260, std::max(views.height, 420));  // the views, then the planar map's legend
+    for (int y = 0; y < views.height; ++y)
+        for (int x = 0; x < views.width; ++x)
+            cv.put(x, y, views.channels == 3 ? rgb8{views.at(x, y, 0), views.at(x, y, 1), views.at(x, y, 2)} : rgb8{views.at(x, y), views.at(x, y), views.at(x, y)});
+    detail::figures::draw_stress_legend(cv, views.width + 30, cv.img.height, report);
+    return cv.img;
 }
 
 /// The surface pipeline on a prepared base (mesh, region, fields; opt's up, region_* and

@@ -78,6 +78,11 @@ struct surface_region {
     std::vector<std::uint8_t> border;   ///< per mesh face: bit k set if edge (corner k, corner k+1) is on the region's boundary
     std::vector<std::uint32_t> faces;   ///< the region's faces, increasing
     double area = 0;                    ///< mm^2
+    /// Element sets per region on the mesh (Fig. 1c): whether an instance of class `cls` may have
+    /// its reference point on mesh face `face`; empty: every class everywhere (face_label_regions
+    /// builds one from a label per face). Initialization draws, placement and boosting moves and
+    /// the insertions of §5 keep to it, as planar_domain::class_allowed in the plane.
+    std::function<bool(std::uint32_t cls, std::uint32_t face)> class_allowed;
 
     /// Every face of the patcher's mesh.
     [[nodiscard]] static surface_region whole(const surface_patcher& p) {
@@ -113,12 +118,45 @@ struct surface_region {
         return r;
     }
     [[nodiscard]] bool contains(std::uint32_t face) const noexcept { return face < face_in.size() && face_in[face]; }
+    /// Class `cls` may have an instance's reference point on `face` (see class_allowed).
+    [[nodiscard]] bool allows(std::uint32_t cls, std::uint32_t face) const { return !class_allowed || class_allowed(cls, face); }
 
     [[nodiscard]] static double triangle_area(const triangle_mesh& m, std::uint32_t f) {
         const auto& c = m.faces[f];
         return 0.5 * glm::length(glm::cross(m.vertices[c[1]] - m.vertices[c[0]], m.vertices[c[2]] - m.vertices[c[0]]));
     }
 };
+
+/// Element sets per region on a mesh from a label per face (for surface_region::class_allowed;
+/// the mesh counterpart of label_regions): `face_labels` holds one label in 0-255 per mesh face
+/// (`face_count` of them, e.g. a face group's number); class c may lie on face f when
+/// class_labels[c] is empty (everywhere) or holds face_labels[f]. Throws invalid_input, naming
+/// `name`, for a count other than face_count, a label outside 0-255, or a class label no face has.
+[[nodiscard]] inline std::function<bool(std::uint32_t, std::uint32_t)> face_label_regions(const std::vector<int>& face_labels, std::size_t face_count,
+                                                                                         const std::vector<std::vector<int>>& class_labels,
+                                                                                         const std::string& name = "face labels") {
+    if (face_labels.size() != face_count)
+        throw invalid_input(name + ": " + std::to_string(face_labels.size()) + " labels for a mesh of " + std::to_string(face_count) + " faces (one per face)");
+    std::array<bool, 256> present{};
+    std::vector<std::uint8_t> label(face_labels.size());
+    for (std::size_t f = 0; f < face_labels.size(); ++f) {
+        const int l = face_labels[f];
+        if (l < 0 || l > 255) throw invalid_input(name + ": face " + std::to_string(f) + " has label " + std::to_string(l) + ", outside 0-255");
+        present[static_cast<std::size_t>(l)] = true, label[f] = static_cast<std::uint8_t>(l);
+    }
+    std::vector<std::array<bool, 256>> allowed(class_labels.size());
+    for (std::size_t c = 0; c < class_labels.size(); ++c) {
+        allowed[c].fill(class_labels[c].empty());
+        for (const int g : class_labels[c]) {
+            if (g < 0 || g > 255 || !present[static_cast<std::size_t>(g)])
+                throw invalid_input(name + ": no face has label " + std::to_string(g) + ", which element class " + std::to_string(c) + " asks for");
+            allowed[c][static_cast<std::size_t>(g)] = true;
+        }
+    }
+    return [label = std::move(label), allowed = std::move(allowed)](std::uint32_t cls, std::uint32_t face) {
+        return cls < allowed.size() && face < label.size() && allowed[cls][label[face]];
+    };
+}
 
 /// One instance on a surface: class, scale and shape (in `shape`; its position and rotation are
 /// those of its own picture, (0, 0) and the field's) and its reference point.
@@ -424,6 +462,11 @@ private:
             const auto at = P->locate(p);
             return at && r->contains(at->face);
         };
+        if (r->class_allowed)
+            d.class_allowed = [P, r](std::uint32_t cls, vec2 p) {
+                const auto at = P->locate(p);
+                return at && r->class_allowed(cls, at->face);
+            };
         for (std::size_t t = 0; t < P->faces.size(); ++t) {
             const std::uint8_t bits = r->border[P->faces[t]];
             if (!bits || !r->contains(P->faces[t])) continue;
@@ -525,22 +568,36 @@ namespace detail::surface {
     };
     std::optional<surface_space::view_type> host_view;
 
+    // The class drawn for a candidate on face f: the most underfilled one, or with element sets per
+    // region the most underfilled of those allowed there (UINT32_MAX: none is), as in the plane.
+    auto class_at = [&](std::uint32_t current, std::uint32_t f) {
+        if (region.allows(current, f)) return current;
+        return picker.pick([&](std::uint32_t c) { return region.class_allowed(c, f); });
+    };
     auto generate = [&](counter_rng& rng) -> std::optional<candidate> {
         const std::uint32_t current = picker.pick();
         hosts.host = SIZE_MAX;
         if (s.size() == 0) {
             if (hosts.first_failures >= opt.attempts_per_host) return std::nullopt;
-            return candidate{current, SIZE_MAX, {0, 0}, hosts.first_failures == 0 ? centre : ds::random_point(region, cumulative, rng)};
+            const surface_point at = hosts.first_failures == 0 ? centre : ds::random_point(region, cumulative, rng);
+            const std::uint32_t cls = class_at(current, at.face);
+            if (cls == UINT32_MAX) return ++hosts.first_failures, std::nullopt;
+            return candidate{cls, SIZE_MAX, {0, 0}, at};
         }
         if (!hosts.draw(rng)) return std::nullopt;
         host_view.emplace(s.view(hosts.host));
         const pattern_state& pic = host_view->state();
         const vec2 p = di::position_near(pic.geometry()[host_view->index()], classes[current].size, [&](vec2 q) { return pic.field()(q).scale; }, rng);
-        if (!pic.domain().contains(p)) {
+        std::uint32_t cls = UINT32_MAX;
+        if (pic.domain().contains(p)) {
+            if (!region.class_allowed) cls = current;
+            else if (const auto at = host_view->patch().locate(p)) cls = class_at(current, at->face);
+        }
+        if (cls == UINT32_MAX) {
             hosts.failed();
             return std::nullopt;
         }
-        return candidate{current, hosts.host, p, {}};
+        return candidate{cls, hosts.host, p, {}};
     };
 
     auto accept = [&](const candidate& c, std::span<const candidate>) {

@@ -214,7 +214,8 @@ namespace detail::surface {
                 std::vector<surface_instance> in = l.instances;
                 for (const vec3& c : cluster_centres<vec3>(l.fem.vertices, rep.weak_nodes, 0.5 * classes[cls].size)) {
                     const surface_point at = ds::nearest_region_point(region, c);
-                    in.push_back({instance{cls, {0, 0}, 0, field(at).scale, classes[cls].vertices}, at}), ++added;
+                    const std::uint32_t here = region.class_allowed ? reinforcement_class(weights, [&](std::uint32_t k) { return region.class_allowed(k, at.face); }) : cls;
+                    if (here != UINT32_MAX) in.push_back({instance{here, {0, 0}, 0, field(at).scale, classes[here].vertices}, at}), ++added;
                 }
                 if (added == 0) return std::nullopt;
                 surface_space s(classes, std::move(in), field, region, so.gamma_boundary);
