@@ -322,6 +322,8 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
                           {"cuts_refused_for_connectivity", syn.cut.cut.cuts_refused_for_connectivity},
                           {"split_vertices_off_surface", syn.cut.vertices_off_surface}}},
         {"pieces_dropped", rf.pieces_dropped},
+        {"pieces_trimmed", rf.pieces_trimmed},
+        {"pieces_bridged", rf.pieces_bridged},
         {"pieces_dropped_area_fraction", rf.dropped_area_fraction},
         {"structure", structure_fields(rf, opt.reinforcement, &rq.up)},
         {"instances_final", rf.instances.size()},
@@ -422,7 +424,7 @@ int main(int argc, char** argv) {
                    "mm added to a pair's matching energy per strip crossing of its two elements (0: the paper's eq. 2 alone)")
         ->capture_default_str();
     app.add_option("--max-bridge", max_bridge,
-                   "longest straight strip joining a piece cut off by the domain to the rest, mm (0: 4 x the strip width; -1: none)")
+                   "longest bridge strip joining a cut-off piece to the rest, mm (0: 4 x the strip width, 8 x on a --mesh; -1: none)")
         ->capture_default_str();
     app.add_option("--tolerance", tolerance, "polygonal approximation of the element skeletons, mm")->capture_default_str();
     app.add_option("--max-elements", max_elements, "refuse domains estimated to need more element instances than this")->capture_default_str();

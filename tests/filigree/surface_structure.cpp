@@ -172,6 +172,53 @@ TEST_CASE("surface baking on a flat mesh: M_b has the area and pieces of the 2D 
     CHECK(edge_pieces(mb) == strips.size());
 }
 
+TEST_CASE("surface pieces: a piece within max_bridge is joined by a strip along the surface, a farther one dropped and counted",
+          "[filigree][surface][bake]") {
+    // Two C-scrolls 16 mm apart on a flat 50 x 50 mm mesh, structure off: their strips do not touch.
+    const std::vector<element> cls{scroll(14)};
+    const std::vector<double> w{1.0};
+    const fabsynth::test::surface_setup flat(fabsynth::test::plane_grid(25, 2.0, 1, 0.0), {0, 1, 0});
+    surface_synthesis_result syn;
+    for (const double x : {14.0, 30.0}) {
+        const surface_point at = fabsynth::filigree::detail::surface::nearest_region_point(flat.region, {x, 25, 0});
+        syn.instances.push_back({instance{0, {0, 0}, 0, 1, cls[0].vertices}, at});
+    }
+    const surface_space s(cls, syn.instances, flat.field(), flat.region);
+    syn.skeletons = surface_skeletons(s, nullptr);
+    const triangle_mesh apart = bake_pattern(s, syn.skeletons);
+    REQUIRE(edge_pieces(apart) == 2);
+    // the gap, by brute force over the vertices of the two pieces (told apart by x)
+    double gap = 1e9;
+    for (const vec3& p : apart.vertices)
+        for (const vec3& q : apart.vertices)
+            if (p.x < 22 && q.x > 22) gap = std::min(gap, glm::distance(p, q));
+    INFO("gap " << gap << " mm");
+    REQUIRE(gap > 0.5);
+    REQUIRE(gap < 6.0);
+    synthesis_options so;
+    surface_reinforcement_options ro;
+    ro.base.enabled = false;
+    ro.up = {0, 1, 0};
+    ro.base.max_bridge_mm = gap + 0.5;
+    const auto joined = reinforce_on_surface(cls, w, flat.region, flat.field(), so, syn, ro);
+    CHECK(joined.pieces_bridged == 1);
+    CHECK(joined.pieces_dropped == 0);
+    CHECK(joined.dropped_area_fraction == 0);
+    CHECK(edge_pieces(joined.baked) == 1);
+    // both scrolls are there, plus a strip of 0.8 mm about the gap long
+    const double added = surface_area(joined.baked) - surface_area(apart);
+    CHECK(added > 0.8 * 0.8 * gap);
+    CHECK(added < 0.8 * (gap + 0.8) + 0.5);
+    ro.base.max_bridge_mm = 0.5 * gap;
+    const auto left = reinforce_on_surface(cls, w, flat.region, flat.field(), so, syn, ro);
+    CHECK(left.pieces_bridged == 0);
+    CHECK(left.pieces_dropped == 1);
+    CHECK(left.dropped_area_fraction == Approx(0.5).margin(0.01));  // two copies of one element
+    CHECK(surface_area(left.baked) == Approx(0.5 * surface_area(apart)).epsilon(0.01));
+    ro.base.max_bridge_mm = -1;  // no bridges
+    CHECK(reinforce_on_surface(cls, w, flat.region, flat.field(), so, syn, ro).pieces_dropped == 1);
+}
+
 TEST_CASE("surface filigree on a cylinder: M_b one piece, watertight solid, shell model agrees with CalculiX, no weak node after the structural optimization",
           "[filigree][surface][structure]") {
     const std::vector<element> cls{scroll(12)};

@@ -69,7 +69,8 @@ struct reinforcement_options {
     int resynthesis_rounds = 2;          ///< rounds of placement + boosting after an insertion
     double mesh_edge = 0.0;              ///< FEM mesh edge length, mm; 0 = 0.6 x the median strip width
     /// Longest bridge strip joining a cut-off piece to the rest (mm); 0 = 4 x the narrowest strip
-    /// width; < 0: no bridges (pieces are dropped or trimmed).
+    /// width in the plane, surface_bridge_widths (8) x on a surface (surface/structure.hpp);
+    /// < 0: no bridges (pieces are dropped or trimmed).
     double max_bridge_mm = 0.0;
     // The re-syntheses of phase 1 take their seeds from the synthesis options' (seed + 1000 x round).
 };
@@ -78,8 +79,8 @@ struct reinforcement_options {
 /// the piece's bookkeeping, the analyses before and after, and what each phase did.
 struct structural_record {
     std::size_t pieces_dropped = 0;           ///< pieces removed because they were not attached to the largest
-    std::size_t pieces_bridged = 0;           ///< pieces joined to it by a bridge strip (planar form)
-    std::size_t pieces_trimmed = 0;           ///< pieces removed as shorter than a printable strip (planar form)
+    std::size_t pieces_bridged = 0;           ///< pieces joined to it by a bridge strip
+    std::size_t pieces_trimmed = 0;           ///< pieces removed as shorter than a printable strip
     double dropped_area_fraction = 0;         ///< area removed (dropped and trimmed) / the area of all pieces
     double thickness = 0;                     ///< final, mm
     bool analysed = false;

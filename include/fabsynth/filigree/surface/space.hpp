@@ -511,6 +511,14 @@ namespace detail::surface {
         const double d = glm::distance(q, p);
         if (d < best_d) best_d = d, best = {f, barycentric(q, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]])};
     }
+    // a point on an edge of a sliver face may come out a rounding below 0 (or NaN on a face without
+    // area): clamp to the face, as the exponential map and the anchors need valid coordinates
+    vec3& b = best.bary;
+    if (!(b.x >= 0 && b.y >= 0 && b.z >= 0 && std::abs(b.x + b.y + b.z - 1) <= 1e-12)) {
+        b = vec3(std::isfinite(b.x) ? std::max(b.x, 0.0) : 0.0, std::isfinite(b.y) ? std::max(b.y, 0.0) : 0.0, std::isfinite(b.z) ? std::max(b.z, 0.0) : 0.0);
+        const double sum = b.x + b.y + b.z;
+        b = sum > 0 ? b / sum : vec3(1.0 / 3, 1.0 / 3, 1.0 / 3);
+    }
     return best;
 }
 
