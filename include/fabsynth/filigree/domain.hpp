@@ -131,6 +131,27 @@ struct planar_domain {
     }
 };
 
+namespace detail::domain {
+
+// Per class the labels (0-255) it may lie on: every label when its list is empty, else those
+// listed. `present[g]`: some pixel or face has label g; a listed label outside 0-255 or absent
+// throws invalid_input with missing(g, c).
+template <class Missing>
+[[nodiscard]] std::vector<std::array<bool, 256>> class_label_table(const std::array<bool, 256>& present, const std::vector<std::vector<int>>& class_labels,
+                                                                   Missing&& missing) {
+    std::vector<std::array<bool, 256>> allowed(class_labels.size());
+    for (std::size_t c = 0; c < class_labels.size(); ++c) {
+        allowed[c].fill(class_labels[c].empty());
+        for (const int g : class_labels[c]) {
+            if (g < 0 || g > 255 || !present[static_cast<std::size_t>(g)]) throw invalid_input(missing(g, c));
+            allowed[c][static_cast<std::size_t>(g)] = true;
+        }
+    }
+    return allowed;
+}
+
+}  // namespace detail::domain
+
 /// Element sets per region from a label picture (for planar_domain::class_allowed): `labels` is a
 /// grayscale picture stretched over `extent` (mm; pixel row 0 at extent.lo.y, nearest pixel,
 /// clamped outside); class c may lie at p when class_labels[c] is empty (everywhere) or holds the
@@ -143,15 +164,9 @@ struct planar_domain {
     if (extent.empty() || !(extent.hi.x > extent.lo.x && extent.hi.y > extent.lo.y)) throw invalid_input(name + ": the extent is empty");
     std::array<bool, 256> present{};
     for (const std::uint8_t v : labels.data) present[v] = true;
-    std::vector<std::array<bool, 256>> allowed(class_labels.size());
-    for (std::size_t c = 0; c < class_labels.size(); ++c) {
-        allowed[c].fill(class_labels[c].empty());
-        for (const int g : class_labels[c]) {
-            if (g < 0 || g > 255 || !present[static_cast<std::size_t>(g)])
-                throw invalid_input(name + ": no pixel has grey level " + std::to_string(g) + ", which element class " + std::to_string(c) + " asks for");
-            allowed[c][static_cast<std::size_t>(g)] = true;
-        }
-    }
+    auto allowed = detail::domain::class_label_table(present, class_labels, [&](int g, std::size_t c) {
+        return name + ": no pixel has grey level " + std::to_string(g) + ", which element class " + std::to_string(c) + " asks for";
+    });
     return [labels = std::move(labels), extent, allowed = std::move(allowed)](std::uint32_t cls, vec2 p) {
         const vec2 f = (p - extent.lo) / (extent.hi - extent.lo);
         const int x = std::clamp(static_cast<int>(std::floor(f.x * labels.width)), 0, labels.width - 1);

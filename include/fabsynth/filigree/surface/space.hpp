@@ -144,15 +144,9 @@ struct surface_region {
         if (l < 0 || l > 255) throw invalid_input(name + ": face " + std::to_string(f) + " has label " + std::to_string(l) + ", outside 0-255");
         present[static_cast<std::size_t>(l)] = true, label[f] = static_cast<std::uint8_t>(l);
     }
-    std::vector<std::array<bool, 256>> allowed(class_labels.size());
-    for (std::size_t c = 0; c < class_labels.size(); ++c) {
-        allowed[c].fill(class_labels[c].empty());
-        for (const int g : class_labels[c]) {
-            if (g < 0 || g > 255 || !present[static_cast<std::size_t>(g)])
-                throw invalid_input(name + ": no face has label " + std::to_string(g) + ", which element class " + std::to_string(c) + " asks for");
-            allowed[c][static_cast<std::size_t>(g)] = true;
-        }
-    }
+    auto allowed = detail::domain::class_label_table(present, class_labels, [&](int g, std::size_t c) {
+        return name + ": no face has label " + std::to_string(g) + ", which element class " + std::to_string(c) + " asks for";
+    });
     return [label = std::move(label), allowed = std::move(allowed)](std::uint32_t cls, std::uint32_t face) {
         return cls < allowed.size() && face < label.size() && allowed[cls][label[face]];
     };
