@@ -60,7 +60,7 @@ namespace fabsynth::filigree {
 /// parameterizations stop (a thin ear, a neck: the map folds before it reaches the other side), so
 /// the instances on either side never become neighbours and their strips end further apart:
 /// measured on the main job's bunny (C-scrolls at 16 mm, 0.8 mm strips), the pattern on one ear,
-/// 5.6% of the area, ended 5.4 mm (6.7 widths) from the rest, so the default is 8 widths.
+/// 5.2% of the area, ended 5.4 mm (6.7 widths) from the rest, so the default is 8 widths.
 inline constexpr double surface_bridge_widths = 8.0;
 
 namespace detail::surface {
