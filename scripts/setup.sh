@@ -11,6 +11,7 @@ packages=(
   libopenblas0-pthread             # optimised BLAS/LAPACK: CHOLMOD's supernodal factorization (~3x the reference BLAS)
   libmetis-dev                     # nested-dissection ordering of the LDL^T solver (fem/detail/linear_backends.hpp)
   calculix-ccx                     # CalculiX: the independent FEM oracle of tests/fem/solve_context.cpp and bench_fem_decks
+  calculix-ccx-test                # CalculiX's own test decks: the patterns of tests/fem/inp_ccx_suite.cpp
   libboost-dev                     # header-only: Boost.Polygon segment Voronoi (medial axis)
   catch2 libbenchmark-dev
   nlohmann-json3-dev               # the tools' --json summaries (examples/common/tool.hpp)

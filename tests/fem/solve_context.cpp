@@ -21,6 +21,7 @@
 #include "fabsynth/fem/inp_writer.hpp"
 #include "fabsynth/fem/solve_context.hpp"
 #include "fabsynth/fem/stress.hpp"
+#include "support/ccx.hpp"
 
 using namespace fabsynth;
 using namespace fabsynth::fem;
@@ -275,27 +276,8 @@ TEST_CASE("write_inp round-trips through parse_inp", "[fem][inp]") {
     CHECK_THROWS_WITH(write_inp(bad, p.lc), Catch::Contains("not positive"));
 }
 
-namespace {
-// Displacements of CalculiX's .dat file (*NODE PRINT, U): node -> (ux, uy, uz).
-std::map<long, std::array<double, 3>> read_ccx_displacements(const std::filesystem::path& dat) {
-    std::ifstream in(dat);
-    std::map<long, std::array<double, 3>> u;
-    std::string line;
-    bool in_block = false;
-    while (std::getline(in, line)) {
-        if (line.find("displacements") != std::string::npos) { in_block = true; continue; }
-        if (!in_block) continue;
-        std::istringstream s(line);
-        long node;
-        std::array<double, 3> v;
-        if (s >> node >> v[0] >> v[1] >> v[2]) u[node] = v;
-    }
-    return u;
-}
-}  // namespace
-
 TEST_CASE("CalculiX gives the same displacements on the written deck", "[fem][ccx][oracle]") {
-    if (std::system("command -v ccx > /dev/null 2>&1") != 0) {
+    if (!test::have_ccx()) {
         WARN("ccx (Debian calculix-ccx) not found: CalculiX oracle skipped");
         return;
     }
@@ -313,7 +295,7 @@ TEST_CASE("CalculiX gives the same displacements on the written deck", "[fem][cc
     std::ofstream(dir / "deck.inp") << write_inp(p.m, p.lc, {.heading = "fabsynth oracle", .print_displacements = true});
     const std::string cmd = "cd '" + dir.string() + "' && ccx -i deck > ccx.log 2>&1";
     REQUIRE(std::system(cmd.c_str()) == 0);
-    const auto ccx = read_ccx_displacements(dir / "deck.dat");
+    const auto ccx = test::read_ccx_displacements(dir / "deck.dat");
     REQUIRE(ccx.size() == p.m.nodes.size());
     for (solver_method method : {solver_method::automatic, solver_method::amg, solver_method::ldlt}) {
         INFO("method " << method_name(method));

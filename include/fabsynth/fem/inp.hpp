@@ -2,24 +2,35 @@
 #pragma once
 /// @file inp.hpp  Reader for the linear-static subset of Abaqus / CalculiX .inp decks.
 ///
-/// Supported keywords (case-insensitive; "**" starts a comment line):
+/// Supported keywords and parameters (case-insensitive; "**" starts a comment line):
 ///   *HEADING
-///   *NODE [,NSET=n]                        id, x, y[, z]
+///   *NODE [,NSET=n]                        id[, x[, y[, z]]]   (empty or missing coordinates are 0,
+///                                          as in CalculiX; further columns must be empty or 0)
 ///   *ELEMENT, TYPE=C3D8|C3D6|S3 [,ELSET=e]  id, n1, ..., nk (lines ending in ',' continue)
 ///   *NSET, NSET=n [,GENERATE]   *ELSET, ELSET=e [,GENERATE]    ids or set names / first, last[, inc]
-///   *MATERIAL, NAME=m   *ELASTIC [,TYPE=ISOTROPIC]: E, nu   *DENSITY: rho
+///   *MATERIAL, NAME=m
+///   *ELASTIC [,TYPE=ISO|ISOTROPIC]         one row: E, nu[, temperature]
+///   *DENSITY                               one row: rho[, temperature]
 ///   *SOLID SECTION, ELSET=e, MATERIAL=m     *SHELL SECTION, ELSET=e, MATERIAL=m: thickness
-///   *STEP, *STATIC, *END STEP               one linear static step (NLGEOM=YES is refused)
-///   *BOUNDARY   node|nset, first_dof[, last_dof[, value]]   or node|nset, ENCASTRE|PINNED|
-///               XSYMM|YSYMM|ZSYMM|XASYMM|YASYMM|ZASYMM (rotational DOFs skipped on solid nodes)
-///   *CLOAD      node|nset, dof, magnitude
-///   *DLOAD      element|elset, GRAV, g, nx, ny, nz     (g [mm/s^2] along the normalised direction)
-///               element|elset, P, pressure              (S3 shells only; CalculiX's sign: positive P pushes
+///   *STEP [,NLGEOM=NO] [,INC=n], *STATIC [,SOLVER=s], *END STEP   one linear static step
+///   *BOUNDARY [,OP=MOD] [,TYPE=DISPLACEMENT]  node|nset, first_dof[, last_dof[, value]]   or
+///               node|nset, ENCASTRE|PINNED|XSYMM|YSYMM|ZSYMM|XASYMM|YASYMM|ZASYMM
+///               (rotational DOFs skipped on solid nodes)
+///   *CLOAD [,OP=MOD]  node|nset, dof, magnitude          (repeated loads on one dof add up, as in CalculiX)
+///   *DLOAD [,OP=MOD]  element|elset, GRAV, g, nx, ny, nz (g [mm/s^2] along the normalised direction)
+///                     element|elset, P, pressure         (S3 shells only; CalculiX's sign: positive P pushes
 ///                                                       along the normal, so it is read as pressure_load -P)
-///   *NODE PRINT, *EL PRINT, *NODE FILE, *EL FILE: accepted and ignored (with their data lines).
-/// Any other keyword, parameter value or data line it cannot honour throws io_error naming the
-/// file, line and keyword: nothing is skipped silently; so does a number above 1e30 in magnitude
-/// (it would overflow the element integrals). DOFs in decks are 1-based (1-3 = ux..uz,
+///   *NODE PRINT, *EL PRINT, *NODE FILE, *EL FILE: output requests, accepted and ignored with their
+///   parameters and data lines.
+/// The reader says yes only to what it honours: any other keyword, any other parameter (USER,
+/// SUBMODEL, AMPLITUDE, OP=NEW, ORIENTATION, OFFSET, INPUT, ...), any data column it would not use and
+/// any data line it cannot honour throws io_error naming the file, line, keyword and parameter or
+/// column. Temperature-dependent tables (a second *ELASTIC or *DENSITY row) are refused: CalculiX
+/// would interpolate them at the initial temperature, which this linear reader does not model. A
+/// single row with a temperature is honoured (it holds at every temperature, as in CalculiX). STEP
+/// INC= (the increment limit) and STATIC SOLVER= (CalculiX's choice of linear solver) cannot change a
+/// linear static solution and are accepted. A number above 1e30 in magnitude is refused too (it
+/// would overflow the element integrals). DOFs in decks are 1-based (1-3 = ux..uz,
 /// 4-6 = rx..rz); fem::load_case uses 0-based DOFs and 0-based node/element indices.
 /// Units are whatever the deck uses; fabsynth assumes mm, N, MPa, t/mm^3, s.
 ///
@@ -32,6 +43,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <string_view>
@@ -144,6 +156,7 @@ private:
     bool generate_ = false;
     std::vector<std::string_view> pending_;  // element tokens across continuation lines
     bool section_data_seen_ = false;
+    int rows_ = 0;  // data rows of the current *ELASTIC / *DENSITY block
 
     [[noreturn]] void fail(std::string_view what) const {
         if (what.starts_with("fabsynth: ")) what.remove_prefix(10);  // re-located library error
@@ -186,18 +199,39 @@ private:
         return it->second;
     }
 
+    /// Refuses any parameter of `kw` outside `allowed`, naming it (and what is supported).
+    void only_parameters(const std::string& kw, const std::map<std::string, std::string>& p,
+                         std::initializer_list<const char*> allowed) const {
+        for (const auto& [key, value] : p) {
+            if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) != allowed.end()) continue;
+            std::string supported;
+            for (const char* a : allowed) supported += std::string(supported.empty() ? "" : ", ") + a;
+            fail("*" + kw + " parameter " + key + (value.empty() ? "" : "=" + value) + " is not supported" +
+                 (supported.empty() ? " (*" + kw + " takes no parameters)" : " (supported: " + supported + ")"));
+        }
+    }
+    /// OP=MOD is CalculiX's default for loads and boundary conditions; OP=NEW would remove those of
+    /// earlier steps, which a one-step reader does not keep apart, so it is refused.
+    void op_mod_only(const std::string& kw, const std::map<std::string, std::string>& p) const {
+        const auto it = p.find("OP");
+        if (it != p.end() && upper(it->second) != "MOD") fail("*" + kw + " parameter OP=" + it->second + " is not supported (only OP=MOD)");
+    }
+
     void begin_block(const std::string& kw, const std::map<std::string, std::string>& p) {
         generate_ = p.count("GENERATE") > 0;
         set_name_.clear();
         pending_.clear();
         section_data_seen_ = false;
+        rows_ = 0;
         if (kw != "ELASTIC" && kw != "DENSITY") current_material_.clear();  // material data ends at any other keyword
-        if (kw == "HEADING") return;
+        if (kw == "HEADING") return only_parameters(kw, p, {});
         if (kw == "NODE") {
+            only_parameters(kw, p, {"NSET"});
             if (p.count("NSET")) set_name_ = upper(p.at("NSET")), d_.node_sets[set_name_];
             return;
         }
         if (kw == "ELEMENT") {
+            only_parameters(kw, p, {"TYPE", "ELSET"});
             const std::string type = upper(param(p, "TYPE", kw));
             if (type == "C3D8") etype_ = element_kind::hex8;
             else if (type == "C3D6") etype_ = element_kind::wedge6;
@@ -206,9 +240,11 @@ private:
             if (p.count("ELSET")) set_name_ = upper(p.at("ELSET")), d_.element_sets[set_name_];
             return;
         }
+        if (kw == "NSET" || kw == "ELSET") only_parameters(kw, p, {kw == "NSET" ? "NSET" : "ELSET", "GENERATE"});
         if (kw == "NSET") { set_name_ = upper(param(p, "NSET", kw)); d_.node_sets[set_name_]; return; }
         if (kw == "ELSET") { set_name_ = upper(param(p, "ELSET", kw)); d_.element_sets[set_name_]; return; }
         if (kw == "MATERIAL") {
+            only_parameters(kw, p, {"NAME"});
             current_material_ = upper(param(p, "NAME", kw));
             if (materials_.count(current_material_)) fail("material " + current_material_ + " is defined twice");
             materials_[current_material_] = {};
@@ -217,16 +253,22 @@ private:
         }
         if (kw == "ELASTIC" || kw == "DENSITY") {
             if (current_material_.empty()) fail("*" + kw + " outside a *MATERIAL");
-            if (kw == "ELASTIC" && p.count("TYPE") && upper(p.at("TYPE")) != "ISOTROPIC")
-                fail("*ELASTIC TYPE=" + p.at("TYPE") + " is not supported (only ISOTROPIC)");
+            if (kw == "DENSITY") return only_parameters(kw, p, {});
+            only_parameters(kw, p, {"TYPE"});
+            if (p.count("TYPE") && upper(p.at("TYPE")) != "ISOTROPIC" && upper(p.at("TYPE")) != "ISO")
+                fail("*ELASTIC TYPE=" + p.at("TYPE") + " is not supported (only ISO / ISOTROPIC)");
+            if (material_has_[current_material_].first) fail("material " + current_material_ + " has a second *ELASTIC");
             return;
         }
         if (kw == "SOLID SECTION" || kw == "SHELL SECTION") {
+            only_parameters(kw, p, {"ELSET", "MATERIAL"});
             sections_.push_back({line_, upper(param(p, "ELSET", kw)), upper(param(p, "MATERIAL", kw)), kw == "SHELL SECTION", 0, false});
             return;
         }
         if (kw == "STEP") {
             if (in_step_) fail("*STEP inside another *STEP");
+            only_parameters(kw, p, {"NLGEOM", "INC"});
+            if (p.count("INC")) integer(p.at("INC"), "*STEP INC");
             if (++steps_ > 1) fail("only one *STEP is supported");
             if (p.count("NLGEOM") && upper(p.at("NLGEOM")) != "NO") fail("*STEP NLGEOM=YES is not supported (linear analysis only)");
             in_step_ = true;
@@ -234,16 +276,21 @@ private:
         }
         if (kw == "STATIC") {
             if (!in_step_) fail("*STATIC outside *STEP");
+            only_parameters(kw, p, {"SOLVER"});
             return;
         }
         if (kw == "END STEP") {
+            only_parameters(kw, p, {});
             if (!in_step_) fail("*END STEP without *STEP");
             in_step_ = false;
             return;
         }
         if (kw == "BOUNDARY" || kw == "CLOAD" || kw == "DLOAD") {
-            if (p.count("TYPE") && upper(p.at("TYPE")) != "DISPLACEMENT") fail("*" + kw + " TYPE=" + p.at("TYPE") + " is not supported");
-            if (p.count("AMPLITUDE")) fail("*" + kw + " AMPLITUDE= is not supported (static analysis)");
+            if (p.count("AMPLITUDE")) fail("*" + kw + " parameter AMPLITUDE= is not supported (static analysis)");
+            if (kw == "BOUNDARY") only_parameters(kw, p, {"OP", "TYPE"});
+            else only_parameters(kw, p, {"OP"});
+            if (p.count("TYPE") && upper(p.at("TYPE")) != "DISPLACEMENT") fail("*" + kw + " parameter TYPE=" + p.at("TYPE") + " is not supported (only DISPLACEMENT)");
+            op_mod_only(kw, p);
             return;
         }
         if (kw == "NODE PRINT" || kw == "EL PRINT" || kw == "NODE FILE" || kw == "EL FILE") {
@@ -265,10 +312,17 @@ private:
         if (kw == "STATIC") return;  // time increments: irrelevant for a linear static step
         if (!f.empty() && f.back().empty() && kw != "ELEMENT") f.pop_back();  // trailing comma
         if (kw == "NODE") {
-            if (f.size() < 3 || f.size() > 4) fail("*NODE line needs: id, x, y[, z]");
+            // CalculiX reads id, x, y, z and takes an empty or missing coordinate as 0; it ignores
+            // further columns, which are refused here unless they hold nothing (empty or 0), so a
+            // misplaced coordinate is never dropped silently.
+            if (f.empty()) fail("*NODE line needs: id[, x[, y[, z]]]");
             const std::int64_t id = integer(f[0], "node id");
             if (id <= 0) fail("node id must be positive, got " + std::to_string(id));
-            const vec3 x(number(f[1], "x"), number(f[2], "y"), f.size() > 3 ? number(f[3], "z") : 0.0);
+            const auto coordinate = [&](std::size_t i, const char* what) { return i < f.size() && !f[i].empty() ? number(f[i], what) : 0.0; };
+            for (std::size_t i = 4; i < f.size(); ++i)
+                if (!f[i].empty() && number(f[i], "*NODE column") != 0.0)
+                    fail("*NODE column " + std::to_string(i + 1) + " ('" + std::string(f[i]) + "') is not read: a node line is id, x, y, z");
+            const vec3 x(coordinate(1, "x"), coordinate(2, "y"), coordinate(3, "z"));
             if (!node_index_.emplace(id, static_cast<std::uint32_t>(d_.model.nodes.size())).second)
                 fail("node " + std::to_string(id) + " is defined twice");
             if (d_.model.nodes.size() >= 0xffffffffu) fail("too many nodes");
@@ -329,14 +383,20 @@ private:
             return;
         }
         if (kw == "ELASTIC") {
-            if (f.size() < 2) fail("*ELASTIC line needs: E, nu");
+            if (++rows_ > 1)
+                fail("*ELASTIC: a second row makes a temperature-dependent table, which is not supported; give one row E, nu[, temperature]");
+            if (f.size() < 2 || f.size() > 3) fail("*ELASTIC, TYPE=ISO line needs: E, nu[, temperature], got " + std::to_string(f.size()) + " values");
+            if (f.size() > 2 && !f[2].empty()) number(f[2], "temperature");
             materials_[current_material_].E = number(f[0], "E");
             materials_[current_material_].nu = number(f[1], "nu");
             material_has_[current_material_].first = true;
             return;
         }
         if (kw == "DENSITY") {
-            if (f.empty()) fail("*DENSITY line needs: density");
+            if (++rows_ > 1)
+                fail("*DENSITY: a second row makes a temperature-dependent table, which is not supported; give one row rho[, temperature]");
+            if (f.empty() || f.size() > 2) fail("*DENSITY line needs: density[, temperature], got " + std::to_string(f.size()) + " values");
+            if (f.size() > 1 && !f[1].empty()) number(f[1], "temperature");
             materials_[current_material_].density = number(f[0], "density");
             material_has_[current_material_].second = true;
             return;
@@ -346,9 +406,11 @@ private:
             section_data_seen_ = true;
             if (kw == "SHELL SECTION") {
                 if (f.empty()) fail("*SHELL SECTION line needs: thickness");
+                for (std::size_t i = 1; i < f.size(); ++i)
+                    if (!f[i].empty()) fail("*SHELL SECTION column " + std::to_string(i + 1) + " ('" + std::string(f[i]) + "') is not supported: the line is the thickness");
                 sections_.back().thickness = number(f[0], "shell thickness");
                 sections_.back().has_thickness = true;
-            } else if (!f.empty() && !f[0].empty()) {
+            } else if (std::any_of(f.begin(), f.end(), [](std::string_view v) { return !v.empty(); })) {
                 fail("*SOLID SECTION data (a thickness) is only meaningful for 2D elements; remove it");
             }
             return;
