@@ -60,6 +60,21 @@ void BM_synthesize_along(benchmark::State& st) {
     st.counters["length"] = o.length;
 }
 
+// Long bands: the Greek key along a line of 100 to 3200 band heights (result pieces ~8 per
+// height), the whole synthesis; the growth with the length was quadratic in the final merge
+// (merge_contours) before its unions were made a tree.
+void BM_synthesize_long_band(benchmark::State& st) {
+    const auto ex = fabsynth::vector_pattern::exemplar_from_svg(fabsynth::io::read_svg(std::string(FABSYNTH_DATA_DIR) + "/vector/greek_key.svg"));
+    fabsynth::vector_pattern::synthesis_options o;
+    o.length = static_cast<double>(st.range(0)) * ex.height();
+    fabsynth::vector_pattern::synthesis_result r;
+    for (auto _ : st) r = fabsynth::vector_pattern::synthesize_along(ex, o);
+    st.counters["heights"] = static_cast<double>(st.range(0));
+    st.counters["result_pieces"] = static_cast<double>(r.sequence.size());
+    st.counters["dp_s"] = r.dp_seconds;
+}
+
 }  // namespace
 
+BENCHMARK(BM_synthesize_long_band)->RangeMultiplier(2)->Range(100, 3200)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_synthesize_along)->DenseRange(0, static_cast<int>(std::size(cases)) - 1)->Unit(benchmark::kMillisecond)->Iterations(2);

@@ -102,6 +102,13 @@ inline void check_outputs(const std::vector<std::filesystem::path>& inputs, cons
     }
 }
 
+/// `v` with a few significant digits ("1e+308", "0.25"), for messages.
+inline std::string short_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
 /// Returns v if it is finite and within [lo, hi], else invalid_input naming the option, e.g.
 /// require_range(height, 1e-3, 1e5, "--height", "mm"): values that would overflow or vanish in a
 /// computation are refused where they enter.
@@ -238,6 +245,17 @@ inline void keep_freed_memory() {
 #endif
 }
 
+/// The first option of `app` (or of a subcommand it parsed) given an empty value, such as
+/// `--out-dir ""`; empty when there is none. No option of the tools takes an empty string.
+inline std::string option_given_empty(const CLI::App& app) {
+    for (const CLI::Option* opt : app.get_options())
+        for (const std::string& r : opt->get_type_size_max() == 0 ? std::vector<std::string>{} : opt->results())  // flags take no value
+            if (r.empty()) return opt->get_name();
+    for (const CLI::App* sub : app.get_subcommands())
+        if (std::string name = option_given_empty(*sub); !name.empty()) return name;
+    return "";
+}
+
 /// Parses the arguments and runs body(): every failure ends in a `fabsynth:` message on stderr and
 /// the exit code of the convention; --help and --version exit 0.
 template <class Body>
@@ -254,6 +272,10 @@ int run(CLI::App& app, common& c, int argc, char** argv, Body&& body) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::cerr << "fabsynth: " << app.get_name() << ": " << e.what() << " (see --help)\n";
+        return exit_bad_input;
+    }
+    if (const std::string empty = option_given_empty(app); !empty.empty()) {
+        std::cerr << "fabsynth: " << app.get_name() << ": " << empty << " is given an empty value (see --help)\n";
         return exit_bad_input;
     }
     try {

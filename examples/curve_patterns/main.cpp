@@ -59,6 +59,14 @@
 
 namespace fs = std::filesystem;
 using namespace fabsynth;
+using fabsynth::tool::short_number;
+
+namespace {
+// Band heights synthesized, stitched, merged and extruded per second along a line (Greek key, 2
+// threads, the 2-core VM; benchmarks/README.md "Tool limits"), rounded down: the rate of the
+// --max-heights estimate.
+constexpr double band_heights_per_second = 100.0;
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{
@@ -95,8 +103,12 @@ int main(int argc, char** argv) {
     app.add_option("--carve", carve, "--mesh: cut the pattern out of a shell this thick (mm)")->needs(o_mesh)->excludes(o_emboss);
     app.add_option("--shell", shell, "--emboss: thickness of the shell around the surface (mm, default 2)")->needs(o_emboss);
     app.add_option("--cell", cell, "--mesh: grid spacing of the solid (mm; default a quarter of the relief or shell, at most --height/40)")->needs(o_mesh);
-    double max_gib = 16.0;
+    double max_gib = 16.0, max_heights = 2000.0;
     tool::add_memory_limit(app, max_gib);
+    app.add_option("--max-heights", max_heights,
+                   "refuse bands longer than this many band heights before the work (it grows with the length; docs/tools.md, \"Limits\")")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     o_curve->excludes(o_line, o_circle, o_rect);
     o_line->excludes(o_circle, o_rect);
     o_circle->excludes(o_rect);
@@ -128,13 +140,17 @@ int main(int argc, char** argv) {
         if (twist && !std::isfinite(*twist)) throw invalid_input("--twist must be finite");
         // Lengths between 1 um and 100 m, and bands at most 1e5 heights long: beyond, the geometry's
         // tolerances (relative to the band height) underflow or overflow.
-        constexpr double min_mm = 1e-3, max_mm = 1e5, max_heights = 1e5;
+        constexpr double min_mm = 1e-3, max_mm = 1e5, max_band_heights = 1e5;
         tool::require_range(height, min_mm, max_mm, "--height", "mm");
         tool::require_range(thickness, min_mm, max_mm, "--thickness", "mm");
         if (tolerance == 0.0) tolerance = height / 1000.0;
         tool::require_range(tolerance, 1e-3 * min_mm, height, "--tolerance", "mm (at most --height)");
         auto require_band_length = [&](double length, const char* option) {
-            tool::require_range(length, min_mm, max_heights * height, option, "mm (at most 1e5 x --height)");
+            tool::require_range(length, min_mm, max_band_heights * height, option, "mm (at most 1e5 x --height)");
+            // The work grows with the band's length in heights (pieces to place, stitch and merge):
+            // measured rate in benchmarks/README.md, "Tool limits".
+            tool::require_work(length / height, max_heights, band_heights_per_second, "band heights", "--max-heights",
+                               std::string(option) + " " + short_number(length) + " mm at --height " + short_number(height));
         };
         if (line_length) require_band_length(*line_length, "--line length");
         if (circle_radius) require_band_length(2 * 3.14159265358979 * tool::require_range(*circle_radius, min_mm, max_mm, "--circle", "mm"), "--circle length");

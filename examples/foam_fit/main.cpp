@@ -107,6 +107,19 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     return tool::run(app, common, argc, argv, [&] {
         tool::check_outputs({cache_path}, {csv_path, header_path, plot_path});
+        foam::sample_cache cache;
+        if (!cache_path.empty()) cache = read_cache(cache_path);
+        // Hours on 2 cores for `pairs` density/radius pairs, the cached samples free: checked before
+        // the grid of pairs is built, so a huge --rho-count is refused at once.
+        const auto require_hours = [&](double pairs) {
+            const double per_element = static_cast<double>(c.elements) * c.elements * c.elements;
+            const double s3 = static_cast<double>(c.supersample) * c.supersample * c.supersample;
+            const double samples = pairs * c.seeds_per_pair - static_cast<double>(cache.size());
+            const double hours = std::max(0.0, samples) * per_element * (fem_seconds_per_element + coverage_seconds_per_sample * s3) / 3600.0;
+            char what[160];
+            std::snprintf(what, sizeof what, "%.4g samples of %d^3 elements, supersample %d", pairs * c.seeds_per_pair, c.elements, c.supersample);
+            tool::require_work(hours, max_hours, 1.0 / 3600.0, "hours on 2 cores", "--max-hours", what);
+        };
         c.fit = objective == "absolute" ? foam::fit_error::absolute : foam::fit_error::relative;
         set_num_threads(threads);
         if (!pairs.empty()) {
@@ -125,6 +138,7 @@ int main(int argc, char** argv) {
             const std::vector<double> tau = parse_list(taus, "--tau");
             if (tau.empty()) throw invalid_input("foam_fit: --tau is empty");
             const std::size_t m = tau.size(), total = m * static_cast<std::size_t>(rho_count);
+            require_hours(static_cast<double>(total));
             for (std::size_t i = 0; i < total; ++i) {  // in increasing f, so a cut-short run still spans every tau
                 const double f = total == 1 ? fraction[0] : fraction[0] + (fraction[1] - fraction[0]) * double(i) / double(total - 1);
                 c.pairs.push_back({f * foam::full_block_density(tau[i % m]), tau[i % m]});
@@ -138,14 +152,7 @@ int main(int argc, char** argv) {
                                 std::to_string(c.pairs.size() * static_cast<std::size_t>(c.seeds_per_pair)));
         const double per_element = static_cast<double>(c.elements) * c.elements * c.elements;
         tool::require_memory(per_element * bytes_per_element, max_memory_gib, "a sample of --elements " + std::to_string(c.elements));
-        foam::sample_cache cache;
-        if (!cache_path.empty()) cache = read_cache(cache_path);
-        const double s3 = static_cast<double>(c.supersample) * c.supersample * c.supersample;
-        const double samples = static_cast<double>(c.pairs.size()) * c.seeds_per_pair - static_cast<double>(cache.size());
-        const double hours = std::max(0.0, samples) * per_element * (fem_seconds_per_element + coverage_seconds_per_sample * s3) / 3600.0;
-        tool::require_work(hours, max_hours, 1.0 / 3600.0, "hours on 2 cores", "--max-hours",
-                           std::to_string(c.pairs.size() * static_cast<std::size_t>(c.seeds_per_pair)) + " samples of " + std::to_string(c.elements) +
-                               "^3 elements, supersample " + std::to_string(c.supersample));
+        require_hours(static_cast<double>(c.pairs.size()));
         tool::output_set outputs;  // the three outputs appear together at the end
         const std::filesystem::path csv_file = csv_path.empty() ? std::filesystem::path() : outputs.add(csv_path),
                                     header_file = header_path.empty() ? std::filesystem::path() : outputs.add(header_path),

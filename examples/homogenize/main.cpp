@@ -57,7 +57,9 @@ int main(int argc, char** argv) {
 
     return fabsynth::tool::run(app, common, argc, argv, [&] {
         fabsynth::tool::check_outputs({input}, {preview});
-        if (!(std::isfinite(E) && E > 0)) throw fabsynth::invalid_input("--E must be a finite modulus > 0 MPa");
+        // 1e-9..1e9 MPa spans every printable solid (steel ~2e5) with room; beyond, the six solves'
+        // energies overflow or underflow far from the option that caused it.
+        fabsynth::tool::require_range(E, 1e-9, 1e9, "--E", "MPa");
         if (!(nu > -1 && nu < 0.5)) throw fabsynth::invalid_input("--nu must lie in (-1, 0.5)");
         if (!(tol > 0 && tol < 1)) throw fabsynth::invalid_input("--tol must lie in (0, 1)");
         if (!(std::isfinite(penalty) && penalty > 0)) throw fabsynth::invalid_input("--penalty must be finite and > 0");

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -250,5 +251,54 @@ TEST_CASE("extreme values are refused where they enter, naming the option", "[cl
              {"rectangle 1e300 mm wide", band({"--rect", "1e300", "10", "--height", "5"}), 2, "--rect width"},
          })
         check_case("curve_patterns", c);
+    CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("the last hostile inputs are refused at once, naming the option or file:line, in few digits", "[cli][limits]") {
+    const std::string bunny = (data_dir / "meshes/bunny_lowres.obj").string();
+    const fs::path out = work_dir / "hostile_out";
+    fs::remove_all(out);
+    // A lattice grid whose SPACING line (line 7) says 1e300 mm per voxel.
+    std::string grid_text = lattice_vtk(8);
+    grid_text.replace(grid_text.find("SPACING 1 1 1"), 13, "SPACING 1e300 1 1");
+    const std::string huge_spacing = write_file("hostile_spacing.vtk", grid_text);
+    const std::string grid = write_file("hostile_lattice.vtk", lattice_vtk(8));
+    // An exemplar band whose path (line 3) reaches x = 1e308.
+    const std::string far_svg = write_file("hostile_far.svg",
+                                           "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"20\" height=\"10\">\n"
+                                           "<rect x=\"0\" y=\"0\" width=\"20\" height=\"10\"/>\n"
+                                           "<path d=\"M 0 0 L 1e308 0 L 1e308 5 Z\"/>\n</svg>\n");
+    // A curve of 30 m: 30 000 band heights of 1 mm (before the --max-heights estimate the run went on
+    // for minutes, quadratic in the length).
+    const std::string long_curve = write_file("hostile_long_curve.svg",
+                                              "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"30000\" height=\"10\">\n"
+                                              "<path d=\"M 0 5 L 30000 5\" stroke=\"black\" fill=\"none\"/>\n</svg>\n");
+    struct row {
+        std::string tool;
+        cli_case c;
+    };
+    for (const row& r : std::vector<row>{
+             {"curve_patterns",
+              {"a 30 m curve at a 1 mm band height",
+               {"--exemplar", (data_dir / "vector/greek_key.svg").string(), "--curve", long_curve, "--height", "1", "-o", (out / "long.svg").string()},
+               2,
+               "--max-heights"}},
+             {"foam_slicer", {"an empty --out-dir", {"slice", bunny, "--size", "20", "--out-dir", ""}, 2, "--out-dir is given an empty value"}},
+             {"voxelize", {"an empty -o", {bunny, "-o", ""}, 2, "empty value"}},
+             {"foam_fit", {"2e9 densities per tau", {"--rho-count", "2000000000", "--csv", (out / "f.csv").string()}, 2, "--max-hours"}},
+             {"homogenize", {"--E 1e308", {grid, "--E", "1e308"}, 2, "--E = 1e+308"}},
+             {"homogenize", {"a spacing of 1e300 mm", {huge_spacing}, 5, "hostile_spacing.vtk:7: SPACING 1e+300 is out of range"}},
+             {"curve_patterns",
+              {"an exemplar coordinate of 1e308", {"--exemplar", far_svg, "--line", "100", "--height", "10", "-o", (out / "c.svg").string()}, 5,
+               "hostile_far.svg:3:"}},
+         }) {
+        // "timeout -s KILL 20": a tool that starts the work instead of refusing it is killed (137)
+        const result res = run(r.tool, r.c.args, 1, "timeout -s KILL 20");
+        INFO(r.tool << ": " << r.c.what << "\nstderr: " << res.err);
+        CHECK(res.code == r.c.code);
+        CHECK(res.err.find(r.c.message) != std::string::npos);
+        CHECK(res.err.size() < 400);                                             // short
+        CHECK_FALSE(std::regex_search(res.err, std::regex("[0-9]{10,}")));      // no 300-digit numbers
+    }
     CHECK_FALSE(fs::exists(out));
 }

@@ -62,12 +62,12 @@ TEST_CASE("svg: write then read back is exact for hand-made documents", "[io][sv
     doc.shapes.push_back(r);
 
     const std::string text = fio::to_svg_string(doc);
-    const auto back = fio::parse_svg(text, "roundtrip.svg");
+    const auto back = fio::parse_svg(text, "roundtrip.svg", {.max_coordinate = std::numeric_limits<double>::infinity()});
     CHECK(back == doc);
     // Through a file, too; writing the read-back document gives identical bytes.
     const auto path = svg_dir() / "roundtrip.svg";
     fio::write_svg(path, doc);
-    const auto back2 = fio::read_svg(path);
+    const auto back2 = fio::read_svg(path, {.max_coordinate = std::numeric_limits<double>::infinity()});
     CHECK(back2 == doc);
     CHECK(slurp(path) == text);
     for (const auto& e : std::filesystem::directory_iterator(svg_dir()))  // no temporary left behind
@@ -146,4 +146,13 @@ TEST_CASE("svg: shapes built from polygons and polylines", "[io][svg]") {
     CHECK(!lines.filled());
     CHECK(lines.closed == std::vector<bool>{false});
     CHECK_THROWS_AS(fio::shape_from_polylines({}, -1), fabsynth::invalid_input);
+}
+
+TEST_CASE("svg: a coordinate beyond max_coordinate is refused at its element's line, in few digits", "[io][svg]") {
+    const std::string text = "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<rect width=\"1\" height=\"1\"/>\n<path d=\"M 0 0 L 1e308 0 L 1 1 Z\"/>\n</svg>\n";
+    CHECK_THROWS_WITH(fio::parse_svg(text, "far.svg"), Catch::StartsWith("fabsynth: far.svg:3:") && Catch::Contains("(1e+308, 0) out of range"));
+    // a transform can carry a small coordinate out of range too
+    const std::string scaled = "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<g transform=\"scale(1e300)\">\n<rect width=\"1\" height=\"1\"/>\n</g>\n</svg>\n";
+    CHECK_THROWS_WITH(fio::parse_svg(scaled, "scaled.svg"), Catch::Contains("scaled.svg:3:") && Catch::Contains("out of range"));
+    CHECK(fio::parse_svg(text, "far.svg", {.max_coordinate = std::numeric_limits<double>::infinity()}).shapes.size() == 2);
 }

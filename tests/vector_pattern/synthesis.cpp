@@ -476,3 +476,45 @@ TEST_CASE("synthesis retry rule: bans first, derived seeds when nothing is to bl
     CHECK(second.seed == hash64(3, std::size_t{1}));
     CHECK(second.variation == Approx(0.25));
 }
+
+TEST_CASE("merge_contours: the tree of unions gives the one-shot union's region and topology", "[pattern][synthesis][contours]") {
+    // 300 unit pieces in a row sharing their sides (as stitched pieces share portals), each with a
+    // square hole, and every third carrying a second ring that overlaps its neighbour.
+    const int n = 300;
+    std::vector<ring2> rings;
+    std::vector<std::size_t> piece;
+    auto square = [](double x0, double y0, double x1, double y1, bool hole) {
+        ring2 r{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+        if (hole) std::reverse(r.begin(), r.end());
+        return r;
+    };
+    for (int i = 0; i < n; ++i) {
+        const double x = i;
+        rings.push_back(square(x, 0, x + 1, 1, false)), piece.push_back(static_cast<std::size_t>(i));
+        rings.push_back(square(x + 0.25, 0.25, x + 0.75, 0.75, true)), piece.push_back(static_cast<std::size_t>(i));
+        if (i % 3 == 0) rings.push_back(square(x + 0.8, 0.9, x + 1.3, 1.2, false)), piece.push_back(static_cast<std::size_t>(i));
+    }
+    const double L = n - 0.5;  // the strip cuts through the last piece
+    box2 b;
+    for (const ring2& r : rings)
+        for (const vec2& p : r) b.extend(p);
+    b.extend(vec2(L, b.hi.y + 1)).extend(vec2(0, b.lo.y - 1));
+    const clip_grid grid = clip_grid::for_bounds(b);
+    const ring2 strip{{0.0, b.lo.y - 1}, {L, b.lo.y - 1}, {L, b.hi.y + 1}, {0.0, b.hi.y + 1}};
+    const auto one_shot = polygon_boolean(clip_op::intersection, rings, fill_rule::nonzero, {strip}, fill_rule::nonzero, grid, false);
+    for (const bool with_pieces : {true, false}) {
+        INFO("piece ids given: " << with_pieces);
+        const auto tree = vector_pattern::merge_contours(rings, L, grid, with_pieces ? &piece : nullptr);
+        std::size_t holes_tree = 0, holes_one = 0;
+        for (const auto& p : tree) holes_tree += p.holes.size();
+        for (const auto& p : one_shot) holes_one += p.holes.size();
+        CHECK(tree.size() == one_shot.size());
+        CHECK(holes_tree == holes_one);
+        CHECK(holes_tree == static_cast<std::size_t>(n - 1));  // the last hole is cut open by the strip at 299.5
+        CHECK(area(tree) == Approx(area(one_shot)).epsilon(1e-12));
+        // the symmetric difference is empty up to the grid's rounding
+        CHECK(area(polygon_boolean(clip_op::xor_, to_rings(tree), fill_rule::nonzero, to_rings(one_shot), fill_rule::nonzero, grid)) < 1e-9);
+    }
+    const std::vector<std::size_t> too_few(3);
+    CHECK_THROWS_AS(vector_pattern::merge_contours(rings, L, grid, &too_few), invalid_input);
+}

@@ -6,7 +6,8 @@
 ///   fabsynth::io::svg_document doc = fabsynth::io::read_svg("band.svg", {.tolerance = 0.01});
 ///   for (const auto& s : doc.shapes)
 ///       for (std::size_t i = 0; i < s.subpaths.size(); ++i) use(s.subpaths[i], s.closed[i]);
-///   fabsynth::io::write_svg("out.svg", doc);   // read_svg("out.svg") == doc, exactly
+///   fabsynth::io::write_svg("out.svg", doc);   // read_svg("out.svg") == doc, exactly (coordinates
+///                                             // beyond 1e9 need svg_read_options::max_coordinate)
 ///
 /// What is read:
 ///  - shapes `path` (M L H V C S Q T A Z, absolute and relative), `polygon`, `polyline`, `rect`
@@ -43,6 +44,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -156,6 +158,10 @@ struct svg_document {
 struct svg_read_options {
     double tolerance = 0.01;                  ///< max curve-to-polyline distance, root user units (> 0)
     std::size_t max_points = 50'000'000;      ///< limit on points in the whole document (bounds memory)
+    /// Largest |x| and |y| of a point after transforms (root user units; 1e9 is 1000 km in mm): a
+    /// larger one is refused naming the element's line, before squares and grids downstream
+    /// overflow or lose every digit. Infinity accepts every finite coordinate.
+    double max_coordinate = 1e9;
 };
 
 namespace detail::svg {
@@ -425,6 +431,15 @@ private:
                 fl.close();
             }
         }
+        // svg_read_options::max_coordinate, checked here where the element is known
+        for (const auto& sp : fl.subpaths)
+            for (const vec2& p : sp)
+                if (!(std::abs(p.x) <= opt_.max_coordinate && std::abs(p.y) <= opt_.max_coordinate)) {
+                    char msg[160];
+                    std::snprintf(msg, sizeof msg, "<%.*s> has a coordinate (%.3g, %.3g) out of range (|x|, |y| <= %.3g after transforms)",
+                                  static_cast<int>(name.size()), name.data(), p.x, p.y, opt_.max_coordinate);
+                    src_.fail(offset, msg);
+                }
         svg_shape s;
         s.subpaths = std::move(fl.subpaths);
         s.closed = std::move(fl.closed);

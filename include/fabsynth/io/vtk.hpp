@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
@@ -121,6 +122,9 @@ struct structured_points {
 
 /// Largest number of points (or values per field) the VTK reader and writers accept: 2^31.
 inline constexpr std::uint64_t max_vtk_values = std::uint64_t{1} << 31;
+/// Largest |ORIGIN| and SPACING accepted (mm): a kilometre-scale grid is no print, and larger values
+/// overflow volumes and cell indices downstream, far from the line that gave them.
+inline constexpr double max_vtk_coordinate = 1e9;
 
 namespace detail {
 
@@ -505,6 +509,11 @@ inline std::vector<double> read_vtk_values(token_cursor& c, bool binary, std::st
 /// (before allocating) and io_error "FILE:LINE" / "FILE: byte N" for anything malformed.
 inline structured_points parse_vtk_structured_points(std::string_view bytes, std::string_view name) {
     using detail::quote;
+    const auto out_of_range = [](const std::string& what, double v) {
+        char msg[120];
+        std::snprintf(msg, sizeof msg, "%s %.3g is out of range (|value| <= %.0e mm)", what.c_str(), v, max_vtk_coordinate);
+        return std::string(msg);
+    };
     if (bytes.empty()) throw io_error(name, 0, "file is empty");
     detail::token_cursor c(bytes, name);
     // Line 1: "# vtk DataFile Version x.y"; line 2: a title; line 3: ASCII or BINARY.
@@ -536,11 +545,15 @@ inline structured_points parse_vtk_structured_points(std::string_view bytes, std
                                     " points exceeds the limit of 2^31");
             have_dims = true;
         } else if (t == "ORIGIN") {
-            for (int a = 0; a < 3; ++a) g.origin[a] = c.finite(c.require("origin"), "origin");
+            for (int a = 0; a < 3; ++a) {
+                g.origin[a] = c.finite(c.require("origin"), "origin");
+                if (std::abs(g.origin[a]) > max_vtk_coordinate) c.fail(out_of_range("ORIGIN", g.origin[a]));
+            }
         } else if (t == "SPACING" || t == "ASPECT_RATIO") {
             for (int a = 0; a < 3; ++a) {
                 g.spacing[a] = c.finite(c.require("spacing"), "spacing");
                 if (g.spacing[a] <= 0) c.fail("spacing must be > 0");
+                if (g.spacing[a] > max_vtk_coordinate) c.fail(out_of_range(std::string(t), g.spacing[a]));
             }
         } else {
             c.fail(std::string("unexpected ") + quote(t) + " in the STRUCTURED_POINTS header");

@@ -518,7 +518,7 @@ struct merged_band {
     const double margin = std::max(1.0, bb.size().y);
     bb.extend(vec2(L, bb.hi.y + margin)).extend(vec2(0.0, bb.lo.y - margin));
     merged_band m{{}, clip_grid::for_bounds(bb)};
-    m.polygons = merge_contours(s.rings, L, m.grid);
+    m.polygons = merge_contours(s.rings, L, m.grid, &s.owner);
     return m;
 }
 
