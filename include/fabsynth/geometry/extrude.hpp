@@ -40,10 +40,12 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "fabsynth/core/box.hpp"
 #include "fabsynth/core/compiler.hpp"
 #include "fabsynth/core/union_find.hpp"
 #include "fabsynth/core/error.hpp"
@@ -52,6 +54,7 @@
 #include "fabsynth/geometry/mesh.hpp"
 #include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/segment.hpp"
 #include "fabsynth/geometry/space_curve.hpp"
 #include "fabsynth/geometry/triangulate.hpp"
 
@@ -324,6 +327,83 @@ FABSYNTH_NO_SLP_VECTORIZE inline void weld_to_float(triangle_mesh& m) {  // comp
     }
     m.vertices = std::move(verts);
     m.faces = std::move(faces);
+}
+
+/// Where two rings of a set of polygons come within `tolerance` of each other: two rings, or two
+/// edges of one ring that are not neighbours, touching or crossing (a figure-eight, two shapes
+/// meeting at a corner, a hole touching its outline). Extruded, such a contact is a vertical edge
+/// or wall shared by both sides: a solid that is not a 2-manifold there, in any precision.
+struct ring_contact {
+    vec2 at;                      ///< a point of the contact (on the first edge)
+    std::size_t polygon_a = 0;    ///< the polygons (indices into the set) of the two edges
+    std::size_t polygon_b = 0;
+};
+
+/// The first contact closer than `tolerance` (>= 0) between edges of `polys` that do not share a
+/// ring vertex, or none. Edges are bucketed on a uniform grid, so the cost is about linear in the
+/// number of edges for outlines of even edge lengths.
+[[nodiscard]] inline std::optional<ring_contact> find_ring_contact(const std::vector<polygon_with_holes>& polys, double tolerance) {
+    struct edge {
+        vec2 a, b;
+        std::uint32_t ring, i, n;  // ring id, index in the ring, ring size
+        std::size_t polygon;
+    };
+    std::vector<edge> edges;
+    box2 bounds;
+    std::uint32_t ring_id = 0;
+    for (std::size_t k = 0; k < polys.size(); ++k) {
+        auto add = [&](const ring2& r) {
+            const auto n = static_cast<std::uint32_t>(r.size());
+            for (std::uint32_t i = 0; i < n; ++i) {
+                edges.push_back({r[i], r[(i + 1) % n], ring_id, i, n, k});
+                bounds.extend(r[i]);
+            }
+            ++ring_id;
+        };
+        add(polys[k].outer);
+        for (const ring2& h : polys[k].holes) add(h);
+    }
+    if (edges.empty()) return std::nullopt;
+    double mean = 0.0;
+    for (const edge& e : edges) mean += glm::length(e.b - e.a);
+    mean /= static_cast<double>(edges.size());
+    const vec2 size = bounds.size();
+    const double cell = std::max({mean, tolerance, 1e-6 * std::max(size.x, size.y), std::numeric_limits<double>::min()});
+    const int nx = std::clamp(static_cast<int>(size.x / cell) + 1, 1, 4096), ny = std::clamp(static_cast<int>(size.y / cell) + 1, 1, 4096);
+    const double cx = std::max(size.x / nx, std::numeric_limits<double>::min()), cy = std::max(size.y / ny, std::numeric_limits<double>::min());
+    std::vector<std::vector<std::uint32_t>> grid(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
+    auto cell_of = [&](double v, double lo, double c, int n) { return std::clamp(static_cast<int>(std::floor((v - lo) / c)), 0, n - 1); };
+    for (std::uint32_t k = 0; k < edges.size(); ++k) {
+        const edge& e = edges[k];
+        const int x0 = cell_of(std::min(e.a.x, e.b.x) - tolerance, bounds.lo.x, cx, nx), x1 = cell_of(std::max(e.a.x, e.b.x) + tolerance, bounds.lo.x, cx, nx);
+        const int y0 = cell_of(std::min(e.a.y, e.b.y) - tolerance, bounds.lo.y, cy, ny), y1 = cell_of(std::max(e.a.y, e.b.y) + tolerance, bounds.lo.y, cy, ny);
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) grid[static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x)].push_back(k);
+    }
+    auto orient2 = [](vec2 a, vec2 b, vec2 c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); };
+    // distance between two segments and a point of the first near the second
+    auto contact = [&](const edge& e, const edge& f, vec2& at) {
+        const double d1 = orient2(e.a, e.b, f.a), d2 = orient2(e.a, e.b, f.b), d3 = orient2(f.a, f.b, e.a), d4 = orient2(f.a, f.b, e.b);
+        if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
+            at = e.a + (d3 / (d3 - d4)) * (e.b - e.a);
+            return 0.0;
+        }
+        double best = segment_distance(e.a, f.a, f.b);
+        at = e.a;
+        if (const double d = segment_distance(e.b, f.a, f.b); d < best) best = d, at = e.b;
+        if (const double d = segment_distance(f.a, e.a, e.b); d < best) best = d, at = f.a;
+        if (const double d = segment_distance(f.b, e.a, e.b); d < best) best = d, at = f.b;
+        return best;
+    };
+    for (const auto& bucket : grid)
+        for (std::size_t p = 0; p < bucket.size(); ++p)
+            for (std::size_t q = p + 1; q < bucket.size(); ++q) {
+                const edge &e = edges[bucket[p]], &f = edges[bucket[q]];
+                if (e.ring == f.ring && (e.n <= 3 || (e.i + 1) % e.n == f.i || (f.i + 1) % f.n == e.i)) continue;  // neighbours share a vertex
+                vec2 at;
+                if (contact(e, f, at) <= tolerance) return ring_contact{at, e.polygon, f.polygon};
+            }
+    return std::nullopt;
 }
 
 /// Options of extrude_along_curve.
