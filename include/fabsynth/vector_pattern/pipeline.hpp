@@ -186,7 +186,7 @@ inline void require_separate_shapes(const exemplar& ex, const std::string& name)
     const auto c = find_ring_contact(ex.polygons, 1e-6 * ex.height());
     if (!c) return;
     throw invalid_input(name + ": the exemplar's shapes " +
-                        (c->polygon_a == c->polygon_b ? "touch themselves" : "touch each other (shapes " + std::to_string(c->polygon_a) + " and " + std::to_string(c->polygon_b) + ")") +
+                        (c->polygon_a == c->polygon_b ? "touch themselves" : "touch each other (its polygons " + std::to_string(c->polygon_a) + " and " + std::to_string(c->polygon_b) + ", after repair)") +
                         " at (" + std::to_string(c->at.x) + ", " + std::to_string(c->at.y) +
                         ") in its own units (a self-intersecting or touching outline): an extruded band would not be a closed solid there; "
                         "move the shapes apart or let them overlap in the exemplar");
