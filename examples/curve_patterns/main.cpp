@@ -172,6 +172,8 @@ int main(int argc, char** argv) {
         progress(0.0, "read exemplar");
         const vector_pattern::exemplar raw = vector_pattern::exemplar_from_svg(io::read_svg(exemplar_path));
         if (!(raw.height() > 0.0)) throw invalid_input(exemplar_path + ": the exemplar has no height");
+        // an extruded band of touching shapes is no closed solid: refused here, naming the file
+        if (!on_surface) vector_pattern::require_separate_shapes(raw, exemplar_path);
 
         vector_pattern::pattern_options po;
         po.band_height = height;

@@ -5,7 +5,9 @@
 #include "support/test_util.hpp"
 
 #include <cmath>
+#include <array>
 #include <map>
+#include <set>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -207,4 +209,51 @@ TEST_CASE("weld_to_float rounds every component to single precision", "[extrude]
     }
     CHECK(m.faces.size() == 2);
     CHECK(m.faces[1][0] == 0);
+}
+
+TEST_CASE("weld_to_float keeps apart what a merge would open or pinch", "[extrude][float]") {
+    SECTION("two squares touching at a corner: the shared corner stays two vertices") {
+        // the slab's two walls meet along one vertical edge; welding by position alone makes that
+        // edge non-manifold (4 faces)
+        const std::vector<polygon_with_holes> polys{{rect_ring(0, 0, 1, 1), {}}, {rect_ring(1, 1, 2, 2), {}}};
+        triangle_mesh m = extrude(triangulate(polys), 1.0);
+        REQUIRE(closed_and_oriented(m));
+        const std::size_t vertices = m.vertices.size();
+        weld_to_float(m);
+        CHECK(closed_and_oriented(m));
+        CHECK(analyze_topology(m).is_watertight());
+        CHECK(m.vertices.size() == vertices);  // the corners at (1, 1, z) are kept apart
+        std::set<std::array<float, 3>> positions;  // every vertex a distinct float position
+        for (const vec3& p : m.vertices) {
+            const std::array<float, 3> k{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+            CHECK(static_cast<double>(k[0]) == p.x);
+            positions.insert(k);
+        }
+        CHECK(positions.size() == m.vertices.size());
+        for (const vec3& p : m.vertices) CHECK(glm::length(p - vec3(glm::round(p))) < 1e-6);  // moved by float steps only
+    }
+    SECTION("a collapse that breaks the link condition is not made") {
+        // a tetrahedron a b c d with face b c d split at e; b and c 1e-9 apart, 100 mm from the
+        // origin (one float position): the edge b-c has faces with a and e opposite, but d is also
+        // a common neighbour, so collapsing b-c makes c-d an edge of four faces
+        triangle_mesh m;
+        m.vertices = {{100, 0, 1}, {100, 0, 0}, {100 + 1e-9, 0, 0}, {100, 1, 0}, {100.3, 0.3, 0}};  // a b c d e
+        m.faces = {{0, 2, 1}, {0, 3, 2}, {0, 1, 3}, {4, 1, 2}, {4, 2, 3}, {4, 3, 1}};
+        REQUIRE(closed_and_oriented(m));
+        weld_to_float(m);
+        CHECK(closed_and_oriented(m));
+        CHECK(m.vertices.size() == 5);
+        CHECK(m.faces.size() == 6);
+    }
+    SECTION("a collapse that keeps the surface closed is still made") {
+        // an extruded square 100 mm from the origin with a vertex 1e-9 from a corner on one edge
+        // (one float position): the short edges collapse, their faces are dropped, the slab stays
+        // closed
+        ring2 r{{100, 0}, {100 + 1e-9, 0}, {101, 0}, {101, 1}, {100, 1}};
+        triangle_mesh m = extrude(triangulate(std::vector<polygon_with_holes>{{r, {}}}), 1.0);
+        REQUIRE(m.vertices.size() == 10);
+        weld_to_float(m);
+        CHECK(m.vertices.size() == 8);
+        CHECK(closed_and_oriented(m));
+    }
 }

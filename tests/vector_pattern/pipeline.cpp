@@ -240,4 +240,73 @@ TEST_CASE("pipeline: disks carved out of a closed sphere, greek key embossed on 
     CHECK(fabsynth::test::raster_topology(e.drawn, {0.0, -12.0}, {e.band_length, 12.0}, 0.04, true).components == 1);
 }
 
+// A figure-eight (a self-intersecting outline, repaired into two triangles meeting at their
+// tips) or two diamonds meeting at their corners, repeated along x: every extrusion of such a band
+// has edges shared by four faces.
+vp::exemplar touching_exemplar(bool figure_eight) {
+    vp::exemplar_shape s;
+    if (figure_eight) {
+        s.subpaths = {{{0, 0}, {100, 40}, {100, 0}, {0, 40}}};
+    } else {
+        s.subpaths = {{{0, 20}, {25, 0}, {50, 20}, {25, 40}}, {{50, 20}, {75, 0}, {100, 20}, {75, 40}}};
+    }
+    return vp::make_exemplar({s});
+}
+
+TEST_CASE("pipeline: an exemplar whose shapes touch is refused before the synthesis, naming it", "[vector_pattern][pipeline]") {
+    std::vector<vec3> helix;
+    for (int i = 0; i <= 120; ++i) {
+        const double a = 2 * std::numbers::pi * i / 120;
+        helix.push_back({20 * std::cos(a), 20 * std::sin(a), 20.0 * i / 120});
+    }
+    const space_curve twisted = space_curve::polyline(helix, false, {.twist_degrees = 90});
+    for (const bool eight : {true, false}) {
+        INFO((eight ? "figure-eight" : "diamonds"));
+        const vp::exemplar ex = touching_exemplar(eight);
+        CHECK_THROWS_WITH(vp::require_separate_shapes(ex, "touching.svg"), Catch::Matchers::Contains("touching.svg") && Catch::Matchers::Contains("touch"));
+        for (const vp::pattern_where& where : {vp::pattern_where{vp::along_planar_curve{planar_curve::line(200.0)}}, vp::pattern_where{vp::along_space_curve{twisted}},
+                                               vp::pattern_where{vp::in_rectangle{60, 40}}}) {
+            std::vector<std::string> stages;
+            CHECK_THROWS_AS(vp::make_pattern(ex, where, options(8.0, std::nullopt),
+                                             [&](double, std::string_view stage) {
+                                                 stages.emplace_back(stage);
+                                                 return true;
+                                             }),
+                            invalid_input);
+            CHECK(std::find(stages.begin(), stages.end(), "synthesis") == stages.end());  // refused before the work
+        }
+    }
+}
+
+TEST_CASE("pipeline: bands along helices and twists are watertight in float or refused up front", "[vector_pattern][pipeline]") {
+    // helices of radius 10 and 25 mm, near the origin and 300 mm from it (coarser floats), with a
+    // quarter, a half and three quarters of a turn of twist either way; every result must be
+    // watertight as written (float) or an invalid_input (the band folds), never a solver_error
+    std::size_t built = 0, refused = 0;
+    for (const char* file : {"greek_key.svg", "zigzag.svg", "hearts.svg"}) {
+        const vp::exemplar raw = fabsynth::test::load_vector_exemplar(file);
+        for (const double radius : {10.0, 25.0})
+            for (const double offset : {0.0, 300.0})
+                for (const double twist : {-270.0, 90.0, 180.0}) {
+                    std::vector<vec3> helix;
+                    for (int i = 0; i <= 150; ++i) {
+                        const double a = 3 * std::numbers::pi * i / 150;
+                        helix.push_back({offset + radius * std::cos(a), radius * std::sin(a), 30.0 * i / 150});
+                    }
+                    const space_curve curve = space_curve::polyline(helix, false, {.twist_degrees = twist});
+                    vp::pattern_options opt = options(radius < 20 ? 14.0 : 8.0, 1u);
+                    opt.render.width = opt.render.height = 20;
+                    INFO(file << " radius " << radius << " offset " << offset << " twist " << twist);
+                    try {
+                        const vp::pattern_result r = vp::make_pattern(raw, vp::along_space_curve{curve}, opt);
+                        CHECK(analyze_topology(r.mesh).is_watertight());
+                        ++built;
+                    } catch (const invalid_input&) {
+                        ++refused;
+                    }
+                }
+    }
+    CHECK(built > refused);
+}
+
 }  // namespace vector_pattern_pipeline_test

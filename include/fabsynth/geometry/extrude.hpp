@@ -40,16 +40,21 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "fabsynth/core/box.hpp"
 #include "fabsynth/core/compiler.hpp"
+#include "fabsynth/core/union_find.hpp"
 #include "fabsynth/core/error.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/geometry/curve.hpp"
 #include "fabsynth/geometry/mesh.hpp"
+#include "fabsynth/geometry/mesh_topology.hpp"
 #include "fabsynth/geometry/polygon.hpp"
+#include "fabsynth/geometry/segment.hpp"
 #include "fabsynth/geometry/space_curve.hpp"
 #include "fabsynth/geometry/triangulate.hpp"
 
@@ -165,29 +170,240 @@ inline void refine_x_extent(planar_triangulation& t, double max_dx) {
     t.triangles = std::move(out);
 }
 
-/// Rounds every vertex to single precision (what binary STL stores), merges vertices that become
-/// equal and drops faces that become degenerate (repeated vertex). Sliver triangles next to a cut
-/// line can have vertices a few 1e-7 mm apart; without this the written STL would have collapsed
-/// faces. Collapsing a zero-length edge removes its two faces and keeps the mesh closed.
-FABSYNTH_NO_SLP_VECTORIZE inline void weld_to_float(triangle_mesh& m) {  // compiler.hpp: GCC 12 miscompiles it otherwise
-    std::map<std::array<float, 3>, std::uint32_t> index;
-    std::vector<std::uint32_t> remap(m.vertices.size());
-    std::vector<vec3> verts;
-    for (std::size_t i = 0; i < m.vertices.size(); ++i) {
-        const std::array<float, 3> k{static_cast<float>(m.vertices[i].x), static_cast<float>(m.vertices[i].y),
-                                     static_cast<float>(m.vertices[i].z)};
-        const auto [it, fresh] = index.emplace(k, static_cast<std::uint32_t>(verts.size()));
-        if (fresh) verts.push_back({k[0], k[1], k[2]});
-        remap[i] = it->second;
+namespace detail::weld {
+using float3 = std::array<float, 3>;
+
+[[nodiscard]] inline float3 rounded(const vec3& p) { return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)}; }
+
+// The faces' edges that are not shared by exactly two faces traversing them in opposite
+// directions (boundary, non-manifold or inconsistently oriented), as vertex pairs.
+[[nodiscard]] inline std::vector<std::pair<std::uint32_t, std::uint32_t>> bad_edges(const std::vector<std::array<std::uint32_t, 3>>& faces) {
+    struct half {
+        std::uint64_t key;
+        std::uint32_t from;
+        bool operator<(const half& o) const noexcept { return key != o.key ? key < o.key : from < o.from; }
+    };
+    std::vector<half> he;
+    he.reserve(3 * faces.size());
+    for (const auto& f : faces)
+        for (int i = 0; i < 3; ++i) {
+            const std::uint32_t a = f[static_cast<std::size_t>(i)], b = f[static_cast<std::size_t>((i + 1) % 3)];
+            he.push_back({(static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b), a});
+        }
+    std::sort(he.begin(), he.end());
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> bad;
+    for (std::size_t i = 0; i < he.size();) {
+        std::size_t j = i;
+        while (j < he.size() && he[j].key == he[i].key) ++j;
+        if (j - i != 2 || he[i].from == he[i + 1].from)
+            bad.push_back({static_cast<std::uint32_t>(he[i].key >> 32), static_cast<std::uint32_t>(he[i].key & 0xffffffffu)});
+        i = j;
     }
+    return bad;
+}
+
+// The free float position nearest to p: p rounded, else the rounded position moved by up to
+// `reach` float steps per coordinate, nearest to p first.
+[[nodiscard]] inline float3 free_float_position(const vec3& p, const std::map<float3, std::uint32_t>& used) {
+    const float3 r = rounded(p);
+    for (int reach = 1;; ++reach) {
+        float3 best{};
+        double best_d = std::numeric_limits<double>::infinity();
+        for (int dx = -reach; dx <= reach; ++dx)
+            for (int dy = -reach; dy <= reach; ++dy)
+                for (int dz = -reach; dz <= reach; ++dz) {
+                    float3 c = r;
+                    const int d[3] = {dx, dy, dz};
+                    for (int a = 0; a < 3; ++a)
+                        for (int s = 0; s < std::abs(d[a]); ++s)
+                            c[static_cast<std::size_t>(a)] = std::nextafter(c[static_cast<std::size_t>(a)], d[a] > 0 ? std::numeric_limits<float>::infinity()
+                                                                                                                 : -std::numeric_limits<float>::infinity());
+                    if (used.count(c)) continue;
+                    const vec3 q{c[0], c[1], c[2]};
+                    const double dist = glm::dot(q - p, q - p);
+                    if (dist < best_d) best_d = dist, best = c;
+                }
+        if (std::isfinite(best_d)) return best;
+    }
+}
+}  // namespace detail::weld
+
+/// Rounds every vertex to single precision (what binary STL stores) and merges vertices that
+/// become equal, without changing the mesh's topology where that would open or pinch it.
+///
+/// Vertices that round to the same float position form a cluster. A cluster whose members are
+/// joined by edges among themselves (short edges of sliver triangles next to a cut line, a few
+/// 1e-7 mm long) is merged: its zero-length edges collapse and the faces that become degenerate
+/// (a repeated vertex) are dropped, as written STL would collapse them. A collapse can still break
+/// the surface (two of the cluster's neighbours joined twice: the link condition), and a cluster
+/// whose members share no edge would pinch two sheets together. So, when the indexed mesh is
+/// watertight (every edge in two faces, opposite directions), the merge is checked: every cluster
+/// at an edge that is no longer shared by exactly two opposite faces is kept apart instead, its
+/// members moved to distinct free float positions nearest to them (at most a few float steps,
+/// about 1e-7 of the coordinates), and the check repeats. Un-merging every cluster gives back the
+/// input's connectivity, so the result is watertight whenever the indexed input is, with every
+/// vertex a float. A mesh that is not watertight as indexed is welded by position alone (every
+/// cluster merged), which may be what closes it. Vertex order: first use in index order.
+FABSYNTH_NO_SLP_VECTORIZE inline void weld_to_float(triangle_mesh& m) {  // compiler.hpp: GCC 12 miscompiles it otherwise
+    using detail::weld::float3;
+    const std::size_t n = m.vertices.size();
+    std::map<float3, std::uint32_t> index;  // rounded position -> cluster
+    std::vector<std::uint32_t> cluster(n);
+    std::vector<float3> key;
+    std::vector<std::uint32_t> members;
+    for (std::size_t i = 0; i < n; ++i) {
+        const float3 k = detail::weld::rounded(m.vertices[i]);
+        const auto [it, fresh] = index.emplace(k, static_cast<std::uint32_t>(key.size()));
+        if (fresh) key.push_back(k), members.push_back(0);
+        cluster[i] = it->second;
+        ++members[it->second];
+    }
+    const std::size_t nc = key.size();
+    // merge[c]: cluster c (more than one vertex) is merged into one vertex
+    std::vector<char> merge(nc, 0);
+    const bool checked = is_watertight(m);
+    if (!checked) {
+        for (std::size_t c = 0; c < nc; ++c) merge[c] = members[c] > 1;
+    } else if (nc < n) {
+        // only clusters connected through their own edges
+        union_find uf(static_cast<std::uint32_t>(n));
+        for (const auto& f : m.faces)
+            for (int e = 0; e < 3; ++e) {
+                const std::uint32_t a = f[static_cast<std::size_t>(e)], b = f[static_cast<std::size_t>((e + 1) % 3)];
+                if (cluster[a] == cluster[b]) uf.unite(a, b);
+            }
+        std::vector<std::uint32_t> root(nc, std::numeric_limits<std::uint32_t>::max());
+        for (std::size_t c = 0; c < nc; ++c) merge[c] = members[c] > 1;
+        for (std::uint32_t i = 0; i < n; ++i) {
+            std::uint32_t& r = root[cluster[i]];
+            if (r == std::numeric_limits<std::uint32_t>::max()) r = uf.find(i);
+            else if (r != uf.find(i)) merge[cluster[i]] = 0;
+        }
+    }
+    std::vector<std::uint32_t> remap(n);
+    std::vector<std::uint32_t> owner;  // cluster of each output vertex
     std::vector<std::array<std::uint32_t, 3>> faces;
-    faces.reserve(m.faces.size());
-    for (auto f : m.faces) {
-        for (std::uint32_t& v : f) v = remap[v];
-        if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) faces.push_back(f);
+    for (;;) {
+        owner.clear();
+        std::vector<std::uint32_t> first(nc, std::numeric_limits<std::uint32_t>::max());
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::uint32_t c = cluster[i];
+            if (merge[c] && first[c] != std::numeric_limits<std::uint32_t>::max()) {
+                remap[i] = first[c];
+                continue;
+            }
+            remap[i] = first[c] = static_cast<std::uint32_t>(owner.size());
+            owner.push_back(c);
+        }
+        faces.clear();
+        faces.reserve(m.faces.size());
+        for (auto f : m.faces) {
+            for (std::uint32_t& v : f) v = remap[v];
+            if (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]) faces.push_back(f);
+        }
+        if (!checked) break;
+        bool changed = false;
+        for (const auto& [a, b] : detail::weld::bad_edges(faces))
+            for (std::uint32_t v : {a, b})
+                if (merge[owner[v]]) merge[owner[v]] = 0, changed = true;
+        if (!changed) break;  // nothing merged is at fault (a watertight input cannot get here)
+    }
+    // positions: a cluster's float position for its first output vertex, the nearest free float
+    // positions for the other members of a cluster kept apart
+    std::vector<vec3> verts(owner.size());
+    std::vector<char> placed(nc, 0);
+    std::vector<char> done(owner.size(), 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t v = remap[i], c = cluster[i];
+        if (done[v]) continue;
+        done[v] = 1;
+        float3 k = key[c];
+        if (placed[c]) {
+            k = detail::weld::free_float_position(m.vertices[i], index);
+            index.emplace(k, c);
+        }
+        placed[c] = 1;
+        verts[v] = {k[0], k[1], k[2]};
     }
     m.vertices = std::move(verts);
     m.faces = std::move(faces);
+}
+
+/// Where two rings of a set of polygons come within `tolerance` of each other: two rings, or two
+/// edges of one ring that are not neighbours, touching or crossing (a figure-eight, two shapes
+/// meeting at a corner, a hole touching its outline). Extruded, such a contact is a vertical edge
+/// or wall shared by both sides: a solid that is not a 2-manifold there, in any precision.
+struct ring_contact {
+    vec2 at;                      ///< a point of the contact (on the first edge)
+    std::size_t polygon_a = 0;    ///< the polygons (indices into the set) of the two edges
+    std::size_t polygon_b = 0;
+};
+
+/// The first contact closer than `tolerance` (>= 0) between edges of `polys` that do not share a
+/// ring vertex, or none. Edges are bucketed on a uniform grid, so the cost is about linear in the
+/// number of edges for outlines of even edge lengths.
+[[nodiscard]] inline std::optional<ring_contact> find_ring_contact(const std::vector<polygon_with_holes>& polys, double tolerance) {
+    struct edge {
+        vec2 a, b;
+        std::uint32_t ring, i, n;  // ring id, index in the ring, ring size
+        std::size_t polygon;
+    };
+    std::vector<edge> edges;
+    box2 bounds;
+    std::uint32_t ring_id = 0;
+    for (std::size_t k = 0; k < polys.size(); ++k) {
+        auto add = [&](const ring2& r) {
+            const auto n = static_cast<std::uint32_t>(r.size());
+            for (std::uint32_t i = 0; i < n; ++i) {
+                edges.push_back({r[i], r[(i + 1) % n], ring_id, i, n, k});
+                bounds.extend(r[i]);
+            }
+            ++ring_id;
+        };
+        add(polys[k].outer);
+        for (const ring2& h : polys[k].holes) add(h);
+    }
+    if (edges.empty()) return std::nullopt;
+    double mean = 0.0;
+    for (const edge& e : edges) mean += glm::length(e.b - e.a);
+    mean /= static_cast<double>(edges.size());
+    const vec2 size = bounds.size();
+    const double cell = std::max({mean, tolerance, 1e-6 * std::max(size.x, size.y), std::numeric_limits<double>::min()});
+    const int nx = std::clamp(static_cast<int>(size.x / cell) + 1, 1, 4096), ny = std::clamp(static_cast<int>(size.y / cell) + 1, 1, 4096);
+    const double cx = std::max(size.x / nx, std::numeric_limits<double>::min()), cy = std::max(size.y / ny, std::numeric_limits<double>::min());
+    std::vector<std::vector<std::uint32_t>> grid(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
+    auto cell_of = [&](double v, double lo, double c, int n) { return std::clamp(static_cast<int>(std::floor((v - lo) / c)), 0, n - 1); };
+    for (std::uint32_t k = 0; k < edges.size(); ++k) {
+        const edge& e = edges[k];
+        const int x0 = cell_of(std::min(e.a.x, e.b.x) - tolerance, bounds.lo.x, cx, nx), x1 = cell_of(std::max(e.a.x, e.b.x) + tolerance, bounds.lo.x, cx, nx);
+        const int y0 = cell_of(std::min(e.a.y, e.b.y) - tolerance, bounds.lo.y, cy, ny), y1 = cell_of(std::max(e.a.y, e.b.y) + tolerance, bounds.lo.y, cy, ny);
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) grid[static_cast<std::size_t>(y) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x)].push_back(k);
+    }
+    auto orient2 = [](vec2 a, vec2 b, vec2 c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); };
+    // distance between two segments and a point of the first near the second
+    auto contact = [&](const edge& e, const edge& f, vec2& at) {
+        const double d1 = orient2(e.a, e.b, f.a), d2 = orient2(e.a, e.b, f.b), d3 = orient2(f.a, f.b, e.a), d4 = orient2(f.a, f.b, e.b);
+        if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
+            at = e.a + (d3 / (d3 - d4)) * (e.b - e.a);
+            return 0.0;
+        }
+        double best = segment_distance(e.a, f.a, f.b);
+        at = e.a;
+        if (const double d = segment_distance(e.b, f.a, f.b); d < best) best = d, at = e.b;
+        if (const double d = segment_distance(f.a, e.a, e.b); d < best) best = d, at = f.a;
+        if (const double d = segment_distance(f.b, e.a, e.b); d < best) best = d, at = f.b;
+        return best;
+    };
+    for (const auto& bucket : grid)
+        for (std::size_t p = 0; p < bucket.size(); ++p)
+            for (std::size_t q = p + 1; q < bucket.size(); ++q) {
+                const edge &e = edges[bucket[p]], &f = edges[bucket[q]];
+                if (e.ring == f.ring && (e.n <= 3 || (e.i + 1) % e.n == f.i || (f.i + 1) % f.n == e.i)) continue;  // neighbours share a vertex
+                vec2 at;
+                if (contact(e, f, at) <= tolerance) return ring_contact{at, e.polygon, f.polygon};
+            }
+    return std::nullopt;
 }
 
 /// Options of extrude_along_curve.

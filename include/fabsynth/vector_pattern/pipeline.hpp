@@ -22,8 +22,13 @@
 ///       points, harmonic disk map, trace_surface_curve, band_curve with points closer than H/8
 ///       merged), synthesize_space_band, decorated_surface (decorate_surface, the drawing is the
 ///       developed band).
-///  4. finish: weld_to_float, require_watertight (a failure is a solver_error: a bug of the
-///     producer), the solid's topology (surfaces only), the view box of the drawing and the preview:
+///     Before the synthesis of an extruded form, require_separate_shapes refuses an exemplar whose
+///     shapes touch or cross (a figure-eight, shapes meeting at a corner: no closed solid); before
+///     its extrusion, require_separate_band_shapes refuses a synthesized pattern that does so, at
+///     its place along the curve.
+///  4. finish: weld_to_float (merges only what keeps the mesh closed: a closed indexed mesh stays
+///     closed in float), require_watertight (the final guard; a failure is a solver_error: a bug of
+///     the producer), the solid's topology (surfaces only), the view box of the drawing and the preview:
 ///     the coverage image of the drawing for planar forms, a shaded render of the solid from two
 ///     opposite sides for curves in space and surfaces.
 /// Progress: reported between every phase (fractions in [0, 1], stage names as the phases) and
@@ -170,6 +175,23 @@ struct pattern_result {
     return 200.0 * 9.0 * 2.0 * surface_area(surface) / (cell * cell);
 }
 
+/// Throws invalid_input, naming `name` (the exemplar's file, say) and the place in the exemplar's
+/// own units, if two of the exemplar's shapes, or two parts of one shape, touch or cross (closer
+/// than 1e-6 of its height; geometry/extrude.hpp's find_ring_contact): a self-intersecting
+/// outline repaired into a figure-eight, two shapes meeting at a corner, a hole touching its
+/// outline. A band of such shapes extruded (a planar curve, a rectangle, a curve in space) has a
+/// contact that is no closed 2-manifold solid, so make_pattern refuses it before the synthesis.
+/// (On a surface the level set merges the shapes there, so surfaces take such exemplars.)
+inline void require_separate_shapes(const exemplar& ex, const std::string& name) {
+    const auto c = find_ring_contact(ex.polygons, 1e-6 * ex.height());
+    if (!c) return;
+    throw invalid_input(name + ": the exemplar's shapes " +
+                        (c->polygon_a == c->polygon_b ? "touch themselves" : "touch each other (its polygons " + std::to_string(c->polygon_a) + " and " + std::to_string(c->polygon_b) + ", after repair)") +
+                        " at (" + std::to_string(c->at.x) + ", " + std::to_string(c->at.y) +
+                        ") in its own units (a self-intersecting or touching outline): an extruded band would not be a closed solid there; "
+                        "move the shapes apart or let them overlap in the exemplar");
+}
+
 namespace detail::pipeline {
 
 /// Phase 1: the exemplar scaled to height H.
@@ -202,6 +224,19 @@ struct band_solid {
 
 [[nodiscard]] inline curve_extrude_options extrude_options(const pattern_options& opt) {
     return {.thickness = opt.thickness, .chord_tolerance = opt.chord_tolerance > 0.0 ? opt.chord_tolerance : opt.band_height / 1000.0};
+}
+
+/// Phase 3, before an extrusion: the synthesized pattern's shapes must not touch (they would share
+/// an edge of the solid; find_ring_contact, closer than 1e-6 H). Contacts on the cut lines u = 0
+/// and u = L of a closed curve are the seam's, glued by the extrusion, and are left alone.
+inline void require_separate_band_shapes(const band_solid& b, const pattern_options& opt) {
+    const double tol = 1e-6 * opt.band_height;
+    const auto c = find_ring_contact(b.synthesis.polygons, tol);
+    if (!c) return;
+    if (b.closed && (std::abs(c->at.x) <= tol || std::abs(c->at.x - b.band_length) <= tol)) return;
+    throw invalid_input("make_pattern: the synthesized pattern's shapes touch at u = " + std::to_string(c->at.x) + " mm along the curve, v = " +
+                        std::to_string(c->at.y) + " mm across it: the extruded band would not be a closed solid there; "
+                        "try another seed, band height or component count");
 }
 
 /// Phase 3, first half for a curve (planar_curve or space_curve): check that the band fits the curve
@@ -314,7 +349,8 @@ inline void check_options(const pattern_options& opt) {
 /// @param[in] progress  called as progress(fraction in [0, 1], stage) between the phases and at
 ///                      every DP layer; returning false throws fabsynth::cancelled at that point
 /// Throws invalid_input for a request that cannot be built (a band that does not fit its curve,
-/// bad options, a surface that is neither a disk nor a closed genus-0 mesh), no_solution when no
+/// bad options, a surface that is neither a disk nor a closed genus-0 mesh, an exemplar or a
+/// synthesized pattern whose shapes touch or cross, for the extruded forms), no_solution when no
 /// piece sequence meets the topology, solver_error for a result that fails its checks (a bug).
 template <progress_callback P = no_progress>
 [[nodiscard]] pattern_result make_pattern(const exemplar& ex, const pattern_where& where, const pattern_options& options, P&& progress = {}) {
@@ -325,21 +361,25 @@ template <progress_callback P = no_progress>
     pattern_result out;
     ph::band_solid b;
     bool in_space = false, surface = false;
+    if (!std::holds_alternative<on_surface>(where)) require_separate_shapes(ex, "make_pattern");
     if (const auto* c = std::get_if<along_planar_curve>(&where)) {
         report_progress(progress, 0.05, "synthesis");
         ph::synthesize_curve_band(scaled_ex, c->curve, options, b, progress_span(progress, 0.05, 0.5));
         report_progress(progress, 0.5, "extrusion");
+        ph::require_separate_band_shapes(b, options);
         ph::extrude_planar_band(c->curve, options, b);
     } else if (const auto* r = std::get_if<in_rectangle>(&where)) {
         report_progress(progress, 0.05, "synthesis");
         ph::synthesize_rectangle_band(scaled_ex, *r, options, b, progress_span(progress, 0.05, 0.5));
         report_progress(progress, 0.5, "extrusion");
+        ph::require_separate_band_shapes(b, options);
         ph::extrude_rectangle_band(options, b);
     } else if (const auto* s = std::get_if<along_space_curve>(&where)) {
         in_space = true;
         report_progress(progress, 0.05, "synthesis");
         ph::synthesize_curve_band(scaled_ex, s->curve, options, b, progress_span(progress, 0.05, 0.5));
         report_progress(progress, 0.5, "extrusion");
+        ph::require_separate_band_shapes(b, options);
         b.mesh = extrude_along_space_curve(b.synthesis.polygons, s->curve, ph::extrude_options(options));
     } else {
         const on_surface& su = std::get<on_surface>(where);
