@@ -47,6 +47,7 @@
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/foam/detail/certificate.hpp"
+#include "fabsynth/foam/detail/near_seeds.hpp"
 #include "fabsynth/foam/detail/point_cache.hpp"
 #include "fabsynth/foam/detail/slicer.hpp"
 #include "fabsynth/foam/detail/voronoi_edges.hpp"
@@ -150,9 +151,25 @@ public:
 
     /// F(q): true iff the distance from q to the Voronoi edges is <= tau(q). Repeated calls near
     /// each other reuse the edge pieces of their block (detail/point_cache.hpp), per thread.
+    /// A point whose block is not held is first decided from its nearest seeds alone
+    /// (detail/near_seeds.hpp: a certified bound on the distance to every edge, and the few edges
+    /// of those seeds), from a per-thread cache of coarse-cell seeds; only points within ~1e-9 mm
+    /// of a beam surface (and degenerate seed sets) pay the exact query. Blocks are built for
+    /// coherent access only (a block missed repeatedly within a short run of misses).
     [[nodiscard]] bool contains(const vec3& q) const {
         const double t = radius(q);
-        if (const detail::edge_block* b = block_for(q)) return b->any_within(q, t);
+        const i64vec3 k = coarse_cell_of(q, opt_.cell);
+        detail::edge_block_cache& cache = thread_cache();
+        cache.set_budget(opt_.point_cache_bytes);
+        if (const detail::edge_block* b = cache.find(id_, k)) return b->any_within(q, t);
+        const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
+        if (cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build, true)) return build_block(k).any_within(q, t);
+        thread_local detail::near_workspace nws;
+        switch (detail::near_seed_test(q, t, gen_, id_, seed_cache_budget(), seed_cache(), nws)) {
+        case detail::near_answer::solid: return true;
+        case detail::near_answer::empty: return false;
+        case detail::near_answer::undecided: break;
+        }
         return solid_near(q, t);
     }
 
@@ -361,8 +378,12 @@ private:
         if (const detail::edge_block* b = cache.find(id_, k)) return b;
         const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
         if (!cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build)) return nullptr;
+        return &build_block(k);
+    }
+    // Block k, built now when it is not held.
+    const detail::edge_block& build_block(const i64vec3& k) const {
         thread_local detail::foam_workspace ws;
-        return &cache.get(id_, k, opt_.point_cache_bytes, [&](detail::edge_block& blk) {
+        return thread_cache().get(id_, k, opt_.point_cache_bytes, [&](detail::edge_block& blk) {
             detail::build_edge_block(blk, id_, k, opt_.cell, opt_.max_radius, ws, [&](const box3& bx, detail::foam_workspace& w, auto&& f) {
                 detail::for_each_voronoi_piece(bx, gen_, opt_.max_radius, id_, w, f);
             });
@@ -397,6 +418,13 @@ private:
         thread_local detail::edge_block_cache cache;
         return cache;
     }
+    // The thread's coarse-cell seeds for contains() (detail/near_seeds.hpp), within 1/8 of the
+    // point-cache budget.
+    static detail::seed_cell_cache& seed_cache() {
+        thread_local detail::seed_cell_cache cache;
+        return cache;
+    }
+    [[nodiscard]] std::size_t seed_cache_budget() const noexcept { return opt_.point_cache_bytes / 8; }
 
     static std::uint64_t next_id() {
         static std::atomic<std::uint64_t> counter{0};

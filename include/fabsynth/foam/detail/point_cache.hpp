@@ -269,9 +269,11 @@ public:
     /// missed `repeat` times, within the last 4 x repeat misses of this thread when the cache is
     /// full: has no room for `typical` more bytes and its least recently used block was used
     /// within the last 2^18 queries (older blocks are stale: evicting them costs nothing).
-    [[nodiscard]] bool worth_building(std::uint64_t owner, const i64vec3& k, std::size_t budget, std::size_t typical, int repeat) {
+    /// `coherent_only`: the window applies even when the cache is not full (callers with a cheap
+    /// answer for scattered misses).
+    [[nodiscard]] bool worth_building(std::uint64_t owner, const i64vec3& k, std::size_t budget, std::size_t typical, int repeat, bool coherent_only = false) {
         ++misses_;
-        const bool full = bytes_ + typical > budget && !blocks_.empty() && clock_ - blocks_[oldest()]->last_use < (std::uint64_t(1) << 18);
+        const bool full = coherent_only || (bytes_ + typical > budget && !blocks_.empty() && clock_ - blocks_[oldest()]->last_use < (std::uint64_t(1) << 18));
         if (tally_.size() >= 65536) tally_.clear();  // bounds the tally's memory
         tally& t = tally_[hash64(owner, k.x, k.y, k.z)];
         if (t.count == 0 || (full && misses_ - t.since > 4 * static_cast<std::uint64_t>(repeat))) t = {0, misses_};

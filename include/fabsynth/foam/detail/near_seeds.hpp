@@ -1,0 +1,314 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file near_seeds.hpp  (internal, behind evaluator.hpp) What makes a cold point query cheap: the
+/// seeds near q, from a per-thread cache of binned coarse-cell seeds, and a certified test that
+/// decides most points from those few seeds without building any Voronoi cell.
+///
+/// Notation (paper §3.1: F(q) = 1 iff q is within tau of an edge of the Voronoi diagram of the
+/// seeds, Algorithm 1's bisector lines): d_j = |q - s_j|, s_1 a seed nearest to q (d_1 <= d_j for
+/// all j), and for every other seed j
+///     delta_j = (d_j^2 - d_1^2) / (2 |s_j - s_1|) = (s_j - s_1) . ((s_j + s_1) / 2 - q) / |s_j - s_1| >= 0,
+/// the distance from q to the bisector plane of s_1 and s_j, H_j = {p : |p - s_j| <= |p - s_1|}
+/// being the closed half-space beyond it (q is not in its interior).
+///
+/// Lemma 1 (edge bound). Let delta_(2) be the second smallest delta_j over all seeds j != s_1.
+///   Then dist(q, every Voronoi edge) >= delta_(2).
+///   Proof: an edge point e has >= 3 nearest seeds (all at distance r(e)), so >= 2 of them, a != b,
+///   differ from s_1. |e - a| = r(e) <= |e - s_1| puts e in H_a, likewise in H_b, so
+///   |q - e| >= max(dist(q, H_a), dist(q, H_b)) = max(delta_a, delta_b) >= delta_(2).
+///   (Paper Fig. 3: a point near one bisector is not near an edge; this counts two of them.)
+/// Lemma 2 (far seeds). A seed with d_j >= D has delta_j >= (D - d_1) / 2.
+///   Proof: |s_j - s_1| <= d_j + d_1, so delta_j >= (d_j - d_1)(d_j + d_1) / (2 (d_j + d_1)).
+///   Hence with S = every seed within rho = d_1 + 2 tau + 2 m of q (m a rounding margin), every
+///   seed outside S has delta_j > tau + m: the seeds of S with delta_j <= tau + m (the candidates
+///   C) are the only seeds other than s_1 that an edge point within tau + m of q can have as
+///   nearest seeds (Lemma 1's argument, one seed at a time). So:
+///   - |C| <= 1: delta_(2) > tau + m, q is empty, certified (no Voronoi cell is built);
+/// Lemma 3 (local edges). Every edge point e within tau + m of q has r(e) <= d_1 + tau + m, and
+///   every seed at distance r(e) from e lies within d_1 + 2 tau + 2 m of q, i.e. in S. So the
+///   edges within tau + m of q are exactly the lines equidistant from triples of C + {s_1}, each
+///   clipped to where its three seeds are nearest among S: the distance from q to the edges, when
+///   it is <= tau + m, is the minimum over those clipped lines (the construction of
+///   tests/foam/reference_voronoi.hpp, restricted to a handful of seeds).
+///   - that minimum <= tau - m: solid; > tau + m (or no candidate line): empty;
+///   - within m of tau, or a line nearly parallel to a clipping plane: undecided, and the caller
+///     answers with the exact query (certificate.hpp + voronoi_edges.hpp).
+/// The jittered grid (seeds.hpp: every coarse cell holds >= 1 seed) is used only to bound the
+/// search for s_1: the gather below looks at a cube around q until it holds a seed within its
+/// half side, so that seed's distance bounds d_1 and the cube holds every seed within it.
+///
+/// Exactness: a decided answer is the exact one as long as the true distance and the one
+/// computed here differ by less than m = 1e-9 (1 + |q|_inf + d_1) mm; both computations are
+/// products and sums of a few seed coordinates (relative rounding ~1e-15), and every answer
+/// within m of the radius goes to the exact query, whose own rounding (canonical_piece.hpp,
+/// ~1e-13 mm) is below m too. So contains() gives the bits of contains_uncached() at every point.
+///
+/// The seed cache: a thread keeps the seeds of the coarse cells it visited (owner = the foam
+/// instance), each cell's seeds sorted into g^3 bins of about one seed each, in an open-addressing
+/// table; past its byte budget the cells are dropped in insertion order (a clock hand). Its
+/// contents never change an answer (the seeds of a cell are a function of the foam and the cell).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "fabsynth/core/rng.hpp"
+#include "fabsynth/core/types.hpp"
+#include "fabsynth/foam/detail/canonical_piece.hpp"
+#include "fabsynth/foam/seeds.hpp"
+
+namespace fabsynth::foam::detail {
+
+/// The seeds of one coarse cell, binned (g bins per axis over the cell, ~1 seed per bin).
+struct seed_cell {
+    std::uint64_t owner = 0;
+    i64vec3 key{0};
+    int g = 1;
+    double inv_bin = 1.0;  // bins per mm
+    vec3 lo{0.0};          // the cell's low corner
+    std::vector<std::uint32_t> start;  // g^3 + 1 prefix offsets into seeds
+    std::vector<vec3> seeds;           // sorted by bin
+
+    [[nodiscard]] std::size_t bytes() const noexcept {
+        return sizeof(*this) + start.capacity() * sizeof(std::uint32_t) + seeds.capacity() * sizeof(vec3);
+    }
+};
+
+/// A thread's binned coarse-cell seeds (see the file comment).
+class seed_cell_cache {
+public:
+    /// The cell (owner, k), generated by gen and binned when not held. `budget`: bytes to keep
+    /// (at least the cell returned is kept until the next call).
+    template <class Seeds>
+    const seed_cell& get(const Seeds& gen, std::uint64_t owner, const i64vec3& k, std::size_t budget) {
+        if (last_ && last_->owner == owner && last_->key == k) return *last_;
+        if (!table_.empty()) {
+            const std::size_t mask = table_.size() - 1;
+            for (std::size_t i = hash64(owner, k.x, k.y, k.z) & mask;; i = (i + 1) & mask) {
+                seed_cell* c = table_[i];
+                if (!c) break;
+                if (c->owner == owner && c->key == k) return *(last_ = c);
+            }
+        }
+        auto cell = std::make_unique<seed_cell>();
+        fill(*cell, gen, owner, k);
+        const std::size_t need = cell->bytes();
+        while (!cells_.empty() && bytes_ + need > budget) evict_one();
+        bytes_ += need;
+        cells_.push_back(std::move(cell));
+        if (2 * cells_.size() > table_.size()) reindex();
+        else insert(cells_.back().get());
+        return *(last_ = cells_.back().get());
+    }
+    [[nodiscard]] std::size_t bytes() const noexcept { return bytes_; }
+    [[nodiscard]] std::size_t size() const noexcept { return cells_.size(); }
+
+private:
+    template <class Seeds>
+    static void fill(seed_cell& c, const Seeds& gen, std::uint64_t owner, const i64vec3& k) {
+        const double L = gen.options().cell;
+        c.owner = owner, c.key = k;
+        c.lo = vec3(static_cast<double>(k.x), static_cast<double>(k.y), static_cast<double>(k.z)) * L;
+        std::vector<vec3> raw;
+        gen.cell_seeds(k, raw);
+        c.g = std::clamp(static_cast<int>(std::lround(std::cbrt(static_cast<double>(raw.size())))), 1, 32);
+        const int g = c.g;
+        c.inv_bin = g / L;
+        auto bin_of = [&](const vec3& s) {
+            int b[3];
+            for (int a = 0; a < 3; ++a) b[a] = std::clamp(static_cast<int>(std::floor((s[a] - c.lo[a]) * c.inv_bin)), 0, g - 1);
+            return static_cast<std::size_t>((b[2] * g + b[1]) * g + b[0]);
+        };
+        c.start.assign(static_cast<std::size_t>(g) * g * g + 1, 0);
+        for (const vec3& s : raw) ++c.start[bin_of(s) + 1];
+        for (std::size_t i = 1; i < c.start.size(); ++i) c.start[i] += c.start[i - 1];
+        c.seeds.resize(raw.size());
+        std::vector<std::uint32_t> at(c.start.begin(), c.start.end() - 1);
+        for (const vec3& s : raw) c.seeds[at[bin_of(s)]++] = s;
+    }
+    void insert(seed_cell* c) noexcept {
+        const std::size_t mask = table_.size() - 1;
+        std::size_t i = hash64(c->owner, c->key.x, c->key.y, c->key.z) & mask;
+        while (table_[i]) i = (i + 1) & mask;
+        table_[i] = c;
+    }
+    void reindex() {
+        std::size_t n = 64;
+        while (n < 4 * cells_.size()) n *= 2;
+        table_.assign(n, nullptr);
+        for (const auto& c : cells_) insert(c.get());
+    }
+    // Removes c from the table (backward-shift deletion keeps every probe chain unbroken).
+    void erase(const seed_cell* c) noexcept {
+        const std::size_t mask = table_.size() - 1;
+        std::size_t i = hash64(c->owner, c->key.x, c->key.y, c->key.z) & mask;
+        while (table_[i] != c) i = (i + 1) & mask;
+        for (std::size_t j = (i + 1) & mask; table_[j]; j = (j + 1) & mask) {
+            const std::size_t home = hash64(table_[j]->owner, table_[j]->key.x, table_[j]->key.y, table_[j]->key.z) & mask;
+            // table_[j] may move to the hole i unless its home lies cyclically in (i, j]
+            if (((j - home) & mask) >= ((j - i) & mask)) {
+                table_[i] = table_[j];
+                i = j;
+            }
+        }
+        table_[i] = nullptr;
+    }
+    // Drops the cell at the clock hand (a cell of the older insertions).
+    void evict_one() {
+        if (hand_ >= cells_.size()) hand_ = 0;
+        if (last_ == cells_[hand_].get()) last_ = nullptr;
+        bytes_ -= cells_[hand_]->bytes();
+        erase(cells_[hand_].get());
+        std::swap(cells_[hand_], cells_.back());
+        cells_.pop_back();
+        ++hand_;
+    }
+
+    std::vector<std::unique_ptr<seed_cell>> cells_;
+    std::vector<seed_cell*> table_;  // open addressing, linear probing; null = empty
+    seed_cell* last_ = nullptr;
+    std::size_t bytes_ = 0, hand_ = 0;
+};
+
+/// Scratch space of the near-seed test.
+struct near_workspace {
+    std::vector<vec3> S;        // gathered seeds
+    std::vector<double> d2;     // their squared distances to q
+    std::vector<int> cand;      // indices into S: s_1 first, then the candidates C
+};
+
+/// Appends to ws.S (and ws.d2) every seed within h of q, from the cells meeting the cube q +- h.
+/// Returns the least squared distance seen (+infinity if none).
+template <class Seeds>
+double gather_near(const vec3& q, double h, const Seeds& gen, std::uint64_t owner, std::size_t budget, seed_cell_cache& cache, near_workspace& ws) {
+    const double L = gen.options().cell;
+    const double h2 = h * h;
+    const i64vec3 lo = coarse_cell_of(q - vec3(h), L), hi = coarse_cell_of(q + vec3(h), L);
+    double best = std::numeric_limits<double>::infinity();
+    for (std::int64_t z = lo.z; z <= hi.z; ++z)
+        for (std::int64_t y = lo.y; y <= hi.y; ++y)
+            for (std::int64_t x = lo.x; x <= hi.x; ++x) {
+                const seed_cell& c = cache.get(gen, owner, {x, y, z}, budget);
+                const int g = c.g;
+                int b0[3], b1[3];
+                for (int a = 0; a < 3; ++a) {
+                    b0[a] = std::clamp(static_cast<int>(std::floor((q[a] - h - c.lo[a]) * c.inv_bin)), 0, g - 1);
+                    b1[a] = std::clamp(static_cast<int>(std::floor((q[a] + h - c.lo[a]) * c.inv_bin)), 0, g - 1);
+                }
+                for (int bz = b0[2]; bz <= b1[2]; ++bz)
+                    for (int by = b0[1]; by <= b1[1]; ++by) {
+                        const std::size_t row = static_cast<std::size_t>((bz * g + by) * g);
+                        const std::uint32_t e = c.start[row + static_cast<std::size_t>(b1[0]) + 1];
+                        for (std::uint32_t i = c.start[row + static_cast<std::size_t>(b0[0])]; i < e; ++i) {
+                            const vec3 d = c.seeds[i] - q;
+                            const double e2 = glm::dot(d, d);
+                            if (e2 <= h2) {
+                                ws.S.push_back(c.seeds[i]);
+                                ws.d2.push_back(e2);
+                                best = std::min(best, e2);
+                            }
+                        }
+                    }
+            }
+    return best;
+}
+
+/// Answer of the near-seed test.
+enum class near_answer { empty, solid, undecided };
+
+/// The certified test of the file comment for the point q of radius t (0 < t <= cell).
+template <class Seeds>
+near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint64_t owner, std::size_t budget, seed_cell_cache& cache, near_workspace& ws) {
+    const double L = gen.options().cell;
+    const double scale = 1 + std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+    // 1. d_1: a cube q +- h holding a seed within h (so the nearest seed is inside it); the first h
+    //    is about the seed spacing of q's cell, doubled until then (a seed is within sqrt(3) L).
+    const seed_cell& own = cache.get(gen, owner, coarse_cell_of(q, L), budget);
+    double h = 0.7 * L / std::cbrt(static_cast<double>(std::max<std::size_t>(1, own.seeds.size()))) + 2 * t;
+    double d1 = 0, m = 0, rho = 0;
+    for (int pass = 0;; ++pass) {
+        ws.S.clear(), ws.d2.clear();
+        const double best2 = gather_near(q, h, gen, owner, budget, cache, ws);
+        if (best2 <= h * h) {
+            d1 = std::sqrt(best2);
+            m = 1e-9 * (scale + d1);
+            rho = d1 + 2 * t + 2 * m;
+            if (rho * (1 + 1e-12) <= h) break;  // S holds every seed within rho (Lemma 2's S)
+            h = rho * (1 + 1e-9);
+        } else {
+            h *= 2;
+        }
+        if (pass > 64) return near_answer::undecided;
+    }
+    // 2. s_1 and the candidates C (delta_j <= t + m), from the seeds within rho.
+    const std::size_t n = ws.S.size();
+    std::size_t i1 = 0;
+    for (std::size_t i = 1; i < n; ++i)
+        if (ws.d2[i] < ws.d2[i1]) i1 = i;
+    const vec3 s1 = ws.S[i1];
+    ws.cand.clear();
+    ws.cand.push_back(static_cast<int>(i1));
+    const double rho2 = rho * rho, reach = t + m;
+    for (std::size_t j = 0; j < n; ++j) {
+        if (j == i1 || ws.d2[j] > rho2) continue;
+        const vec3 dv = ws.S[j] - s1;
+        const double len = std::sqrt(glm::dot(dv, dv));
+        if (!(len > 0)) return near_answer::undecided;  // coincident seeds
+        const double delta = glm::dot(dv, 0.5 * (ws.S[j] + s1) - q) / len;
+        if (delta <= reach) ws.cand.push_back(static_cast<int>(j));
+    }
+    if (ws.cand.size() < 3) return near_answer::empty;  // Lemmas 1 and 2: delta_(2) > t + m
+    // 3. the lines of the candidate triples, clipped by the seeds within rho (Lemma 3)
+    const double lo_ok = (t - m) * (t - m), hi_ok = (t + m) * (t + m);
+    const double circum_max = d1 + t + 2 * m;  // |e - a| = r(e) <= d_1 + t + m for e within t + m
+    bool near_band = false;
+    const std::size_t k = ws.cand.size();
+    for (std::size_t ia = 0; ia < k; ++ia)
+        for (std::size_t ib = ia + 1; ib < k; ++ib)
+            for (std::size_t ic = ib + 1; ic < k; ++ic) {
+                const int ta = ws.cand[ia], tb = ws.cand[ib], tc = ws.cand[ic];
+                std::array<vec3, 3> s{ws.S[static_cast<std::size_t>(ta)], ws.S[static_cast<std::size_t>(tb)], ws.S[static_cast<std::size_t>(tc)]};
+                std::sort(s.begin(), s.end(), canonical::before);
+                const vec3 e1 = s[1] - s[0], e2 = s[2] - s[0], nrm = glm::cross(e1, e2);
+                const double n2 = glm::dot(nrm, nrm);
+                if (!(n2 > 0)) continue;  // collinear: no equidistant line (and none within reach)
+                const vec3 c0 = s[0] + (glm::dot(e1, e1) * glm::cross(e2, nrm) + glm::dot(e2, e2) * glm::cross(nrm, e1)) / (2.0 * n2);
+                const vec3 u = nrm / std::sqrt(n2);
+                const vec3 a = s[0];
+                // the circumradius |c0 - a| bounds |e - a| from below on the whole line
+                const vec3 ca = c0 - a;
+                if (glm::dot(ca, ca) > circum_max * circum_max) continue;
+                double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+                bool gone = false;
+                for (std::size_t j = 0; j < n && !gone; ++j) {
+                    if (ws.d2[j] > rho2 || static_cast<int>(j) == ta || static_cast<int>(j) == tb || static_cast<int>(j) == tc) continue;
+                    // a nearer than s_j at c0 + l u:  (c0 + l u - mid) . (s_j - a) <= 0
+                    const vec3 nj = ws.S[j] - a;
+                    const double alpha = glm::dot(u, nj), beta = glm::dot(c0 - 0.5 * (ws.S[j] + a), nj);
+                    const double nl = std::sqrt(glm::dot(nj, nj));
+                    if (std::abs(alpha) <= 1e-12 * nl) {  // plane parallel to the line
+                        if (std::abs(beta) <= 1e-9 * nl * scale) near_band = true;
+                        if (beta > 0) gone = true;
+                        continue;
+                    }
+                    const double l = -beta / alpha;
+                    if (alpha > 0) hi = std::min(hi, l);
+                    else lo = std::max(lo, l);
+                    if (lo > hi) gone = true;
+                }
+                if (gone) continue;
+                const double lf = std::clamp(glm::dot(q - c0, u), lo, hi);
+                if (!std::isfinite(lf)) continue;  // unbounded towards q's foot: cannot happen within reach
+                const vec3 dq = q - (c0 + lf * u);
+                const double dd = glm::dot(dq, dq);
+                if (dd <= lo_ok) return near_answer::solid;
+                if (dd <= hi_ok) near_band = true;
+            }
+    return near_band ? near_answer::undecided : near_answer::empty;
+}
+
+}  // namespace fabsynth::foam::detail
