@@ -154,8 +154,9 @@ public:
     /// A point whose block is not held is first decided from its nearest seeds alone
     /// (detail/near_seeds.hpp: a certified bound on the distance to every edge, and the few edges
     /// of those seeds), from a per-thread cache of coarse-cell seeds; only points within ~1e-9 mm
-    /// of a beam surface (and degenerate seed sets) pay the exact query. Blocks are built for
-    /// coherent access only (a block missed repeatedly within a short run of misses).
+    /// of a beam surface (and degenerate seed sets) pay the exact query. A block is built for
+    /// coherent access (missed 64 times within a short run of misses) or once it has been missed
+    /// a fraction of its own cost in such cheap answers (256 times).
     [[nodiscard]] bool contains(const vec3& q) const {
         const double t = radius(q);
         const i64vec3 k = coarse_cell_of(q, opt_.cell);
@@ -163,9 +164,8 @@ public:
         cache.set_budget(opt_.point_cache_bytes);
         if (const detail::edge_block* b = cache.find(id_, k)) return b->any_within(q, t);
         const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
-        if (cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build, true)) return build_block(k).any_within(q, t);
-        thread_local detail::near_workspace nws;
-        switch (detail::near_seed_test(q, t, gen_, id_, seed_cache_budget(), seed_cache(), nws)) {
+        if (cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build, scattered_misses_before_build)) return build_block(k).any_within(q, t);
+        switch (detail::near_seed_test(q, t, gen_, id_, opt_.max_radius, seed_cache_budget(), seed_cache_budget() / 4, near_cache())) {
         case detail::near_answer::solid: return true;
         case detail::near_answer::empty: return false;
         case detail::near_answer::undecided: break;
@@ -377,7 +377,7 @@ private:
         cache.set_budget(opt_.point_cache_bytes);
         if (const detail::edge_block* b = cache.find(id_, k)) return b;
         const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
-        if (!cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build)) return nullptr;
+        if (!cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build, misses_before_build)) return nullptr;
         return &build_block(k);
     }
     // Block k, built now when it is not held.
@@ -414,14 +414,18 @@ private:
     // A block costs about 200 of its misses to build (each answered from its own small cube);
     // building after 64 keeps a coherent scan cheap and bounds the waste of scattered points.
     static constexpr int misses_before_build = 64;
+    // contains() answers a scattered miss from its nearest seeds (~1 us, detail/near_seeds.hpp), so
+    // a block missed out of a run is built after a fraction of its own cost in such misses
+    // (a block costs ~2 ms, about 1000 of them), early enough for one warm-up pass of 10^6 points.
+    static constexpr int scattered_misses_before_build = 256;
     static detail::edge_block_cache& thread_cache() {
         thread_local detail::edge_block_cache cache;
         return cache;
     }
-    // The thread's coarse-cell seeds for contains() (detail/near_seeds.hpp), within 1/8 of the
-    // point-cache budget.
-    static detail::seed_cell_cache& seed_cache() {
-        thread_local detail::seed_cell_cache cache;
+    // The thread's seeds for contains() (detail/near_seeds.hpp): extended cells within 1/8 of the
+    // point-cache budget, raw cells within 1/32.
+    static detail::near_seeds& near_cache() {
+        thread_local detail::near_seeds cache;
         return cache;
     }
     [[nodiscard]] std::size_t seed_cache_budget() const noexcept { return opt_.point_cache_bytes / 8; }
