@@ -414,10 +414,10 @@ private:
     // A block costs about 200 of its misses to build (each answered from its own small cube);
     // building after 64 keeps a coherent scan cheap and bounds the waste of scattered points.
     static constexpr int misses_before_build = 64;
-    // contains() answers a scattered miss from its nearest seeds (~1 us, detail/near_seeds.hpp), so
-    // a block missed out of a run is built after a fraction of its own cost in such misses
-    // (a block costs ~2 ms, about 1000 of them), early enough for one warm-up pass of 10^6 points.
-    static constexpr int scattered_misses_before_build = 256;
+    // contains() answers a scattered miss from its nearest seeds (~0.5 us, detail/near_seeds.hpp),
+    // about as fast as a held block at random (the block's memory is ~20x the seeds'), so a block
+    // is built for runs of misses only (this count is never reached within the run window).
+    static constexpr int scattered_misses_before_build = std::numeric_limits<int>::max();
     static detail::edge_block_cache& thread_cache() {
         thread_local detail::edge_block_cache cache;
         return cache;

@@ -65,18 +65,26 @@ namespace fabsynth::foam::detail {
 
 /// Seeds of a box, binned (g bins per axis over the box): the seeds of one coarse cell (a "raw"
 /// cell), or every seed within a margin of one (an "extended" cell, which answers most queries of
-/// the cell alone).
+/// the cell alone). One allocation: this header, then the g^3 + 1 bin offsets, then the seeds
+/// sorted by bin (a query touches the header, its bins' offsets and their seeds, nothing else).
 struct seed_cell {
     std::uint64_t owner = 0;
     i64vec3 key{0};
     int g = 1;
+    std::uint32_t n = 0;    // seeds
     double inv_bin = 1.0;   // bins per mm
     vec3 lo{0.0}, hi{0.0};  // the box
-    std::vector<std::uint32_t> start;  // g^3 + 1 prefix offsets into seeds
-    std::vector<vec3> seeds;           // sorted by bin
+    double guess = 0;       // extended cells: a distance within which most points of the cell have a seed
+    std::size_t size = 0;   // bytes of the allocation
 
-    [[nodiscard]] std::size_t bytes() const noexcept {
-        return sizeof(*this) + start.capacity() * sizeof(std::uint32_t) + seeds.capacity() * sizeof(vec3);
+    [[nodiscard]] std::size_t bytes() const noexcept { return size; }
+    [[nodiscard]] const std::uint32_t* start() const noexcept { return reinterpret_cast<const std::uint32_t*>(this + 1); }
+    [[nodiscard]] const vec3* seeds() const noexcept {
+        return reinterpret_cast<const vec3*>(reinterpret_cast<const std::byte*>(this + 1) + offsets_bytes(g));
+    }
+    [[nodiscard]] static std::size_t offsets_bytes(int g) noexcept {
+        const std::size_t b = (static_cast<std::size_t>(g) * static_cast<std::size_t>(g) * static_cast<std::size_t>(g) + 1) * sizeof(std::uint32_t);
+        return (b + 7) & ~std::size_t(7);
     }
     /// The bin index range [b0, b1] per axis of the bins meeting [a, b] (clamped to the grid).
     void bin_range(const vec3& a, const vec3& b, int b0[3], int b1[3]) const noexcept {
@@ -88,52 +96,99 @@ struct seed_cell {
     /// Calls f(seed) for the seeds of the bins [b0, b1].
     template <class F>
     void for_bins(const int b0[3], const int b1[3], F&& f) const {
+        const std::uint32_t* st = start();
+        const vec3* sd = seeds();
         for (int bz = b0[2]; bz <= b1[2]; ++bz)
             for (int by = b0[1]; by <= b1[1]; ++by) {
                 const std::size_t row = static_cast<std::size_t>((bz * g + by) * g);
-                const std::uint32_t e = start[row + static_cast<std::size_t>(b1[0]) + 1];
-                for (std::uint32_t i = start[row + static_cast<std::size_t>(b0[0])]; i < e; ++i) f(seeds[i]);
+                const std::uint32_t e = st[row + static_cast<std::size_t>(b1[0]) + 1];
+                for (std::uint32_t i = st[row + static_cast<std::size_t>(b0[0])]; i < e; ++i) f(sd[i]);
             }
     }
+    /// Calls f(seed) for the seeds of the bins that meet the ball of radius h around q (rows of
+    /// bins cut to the ball's chord; q inside the box).
+    template <class F>
+    void for_ball(const vec3& q, double h, F&& f) const {
+        const std::uint32_t* st = start();
+        const vec3* sd = seeds();
+        const double bin = 1.0 / inv_bin, h2 = h * h, hb = h * inv_bin;
+        const vec3 u = (q - lo) * inv_bin;  // in [0, g] (q inside the box)
+        // floor of x >= -1 - g (the bins are few); std::floor is a library call on baseline x86-64
+        const auto fl = [](double x) { const int i = static_cast<int>(x); return i - (x < i); };
+        const int z0 = std::max(0, fl(u.z - hb)), z1 = std::min(g - 1, fl(u.z + hb));
+        const int y0 = std::max(0, fl(u.y - hb)), y1 = std::min(g - 1, fl(u.y + hb));
+        const int qy = fl(u.y), qz = fl(u.z);
+        for (int bz = z0; bz <= z1; ++bz) {
+            const double dz = bz < qz ? q.z - (lo.z + (bz + 1) * bin) : bz > qz ? lo.z + bz * bin - q.z : 0.0;
+            for (int by = y0; by <= y1; ++by) {
+                const double dy = by < qy ? q.y - (lo.y + (by + 1) * bin) : by > qy ? lo.y + by * bin - q.y : 0.0;
+                const double r2 = h2 - dy * dy - dz * dz;
+                if (r2 < 0) continue;
+                const double r = std::sqrt(r2) * (1 + 1e-12) * inv_bin;
+                const int x0 = std::max(0, fl(u.x - r)), x1 = std::min(g - 1, fl(u.x + r));
+                const std::size_t row = static_cast<std::size_t>((bz * g + by) * g);
+                const std::uint32_t e = st[row + static_cast<std::size_t>(x1) + 1];
+                for (std::uint32_t i = st[row + static_cast<std::size_t>(x0)]; i < e; ++i) f(sd[i]);
+            }
+        }
+    }
 };
+static_assert(sizeof(seed_cell) % 8 == 0);
 
-/// Sets c's box [lo, hi] and bins the seeds `raw` (all inside the box) into g^3 bins.
-inline void bin_seeds(seed_cell& c, const vec3& lo, const vec3& hi, int g, const std::vector<vec3>& raw) {
-    c.lo = lo, c.hi = hi, c.g = g;
-    c.inv_bin = g / (hi.x - lo.x);
-    auto bin_of = [&](const vec3& s) {
+struct seed_cell_free {
+    void operator()(seed_cell* c) const noexcept { ::operator delete(static_cast<void*>(c)); }
+};
+using seed_cell_ptr = std::unique_ptr<seed_cell, seed_cell_free>;
+
+/// A cell of box [lo, hi] holding the n seeds `raw` (all inside the box) in g^3 bins.
+[[nodiscard]] inline seed_cell_ptr bin_seeds(const vec3& lo, const vec3& hi, int g, const vec3* raw, std::size_t n) {
+    const std::size_t bins = static_cast<std::size_t>(g) * static_cast<std::size_t>(g) * static_cast<std::size_t>(g);
+    const std::size_t size = sizeof(seed_cell) + seed_cell::offsets_bytes(g) + n * sizeof(vec3);
+    seed_cell_ptr c(new (::operator new(size)) seed_cell{});
+    c->g = g, c->n = static_cast<std::uint32_t>(n), c->size = size;
+    c->lo = lo, c->hi = hi;
+    c->inv_bin = g / (hi.x - lo.x);
+    thread_local std::vector<std::uint32_t> bin_of;
+    bin_of.resize(n);
+    auto* st = const_cast<std::uint32_t*>(c->start());
+    std::fill(st, st + bins + 1, 0u);
+    for (std::size_t i = 0; i < n; ++i) {
         int b[3];
-        for (int a = 0; a < 3; ++a) b[a] = std::clamp(static_cast<int>(std::floor((s[a] - lo[a]) * c.inv_bin)), 0, g - 1);
-        return static_cast<std::size_t>((b[2] * g + b[1]) * g + b[0]);
-    };
-    c.start.assign(static_cast<std::size_t>(g) * static_cast<std::size_t>(g) * static_cast<std::size_t>(g) + 1, 0);
-    for (const vec3& s : raw) ++c.start[bin_of(s) + 1];
-    for (std::size_t i = 1; i < c.start.size(); ++i) c.start[i] += c.start[i - 1];
-    c.seeds.resize(raw.size());
-    thread_local std::vector<std::uint32_t> at;
-    at.assign(c.start.begin(), c.start.end() - 1);
-    for (const vec3& s : raw) c.seeds[at[bin_of(s)]++] = s;
+        for (int a = 0; a < 3; ++a) b[a] = std::clamp(static_cast<int>((raw[i][a] - lo[a]) * c->inv_bin), 0, g - 1);  // >= 0: truncation floors
+        bin_of[i] = static_cast<std::uint32_t>((b[2] * g + b[1]) * g + b[0]);
+        ++st[bin_of[i] + 1];
+    }
+    for (std::size_t i = 1; i <= bins; ++i) st[i] += st[i - 1];
+    auto* sd = const_cast<vec3*>(c->seeds());
+    for (std::size_t i = 0; i < n; ++i) new (sd + st[bin_of[i]]++) vec3(raw[i]);
+    for (std::size_t i = bins; i > 0; --i) st[i] = st[i - 1];  // the fill moved each offset one bin on
+    st[0] = 0;
+    return c;
 }
 
 /// A thread's binned seed boxes keyed by (owner, coarse cell) (see the file comment).
 class seed_cell_cache {
 public:
-    /// The entry (owner, k), made by fill(cell) when not held. `budget`: bytes to keep (the entry
-    /// returned stays valid until the next call).
+    /// The entry (owner, k) if held, else null.
+    [[nodiscard]] const seed_cell* find(std::uint64_t owner, const i64vec3& k) noexcept {
+        if (last_ && last_->owner == owner && last_->key == k) return last_;
+        if (table_.empty()) return nullptr;
+        const std::size_t mask = table_.size() - 1;
+        for (std::size_t i = hash64(owner, k.x, k.y, k.z) & mask;; i = (i + 1) & mask) {
+            seed_cell* c = table_[i];
+            if (!c) return nullptr;
+            if (c->owner == owner && c->key == k) return last_ = c;
+        }
+    }
+    /// Whether a new entry of `need` bytes would evict one (budget: bytes to keep).
+    [[nodiscard]] bool full(std::size_t need, std::size_t budget) const noexcept { return !cells_.empty() && bytes_ + need > budget; }
+    /// The entry (owner, k), made by fill() (returning a seed_cell_ptr) when not held. `budget`:
+    /// bytes to keep (the entry returned stays valid until the next call).
     template <class Fill>
     const seed_cell& get(std::uint64_t owner, const i64vec3& k, std::size_t budget, Fill&& fill) {
-        if (last_ && last_->owner == owner && last_->key == k) return *last_;
-        if (!table_.empty()) {
-            const std::size_t mask = table_.size() - 1;
-            for (std::size_t i = hash64(owner, k.x, k.y, k.z) & mask;; i = (i + 1) & mask) {
-                seed_cell* c = table_[i];
-                if (!c) break;
-                if (c->owner == owner && c->key == k) return *(last_ = c);
-            }
-        }
-        auto cell = std::make_unique<seed_cell>();
+        if (const seed_cell* c = find(owner, k)) return *c;
+        seed_cell_ptr cell = fill();
         cell->owner = owner, cell->key = k;
-        fill(*cell);
         const std::size_t need = cell->bytes();
         while (!cells_.empty() && bytes_ + need > budget) evict_one();
         bytes_ += need;
@@ -184,7 +239,7 @@ private:
         ++hand_;
     }
 
-    std::vector<std::unique_ptr<seed_cell>> cells_;
+    std::vector<seed_cell_ptr> cells_;
     std::vector<seed_cell*> table_;  // open addressing, linear probing; null = empty
     seed_cell* last_ = nullptr;
     std::size_t bytes_ = 0, hand_ = 0;
@@ -198,40 +253,82 @@ struct near_seeds {
     std::vector<double> d2;  // their squared distances to q
     std::vector<int> cand;   // indices into S: s_1 first, then the candidates C
     std::vector<vec3> tmp;
+    // extended-cell misses while that cache thrashes (see extended_cell)
+    std::uint64_t full_misses = 0;
+    std::uint32_t recent = 0;     // extended-cell misses per query x 2^16, decaying average
+    std::size_t typical_ext = 0;  // bytes of the latest extended cell built
 };
 
 /// The seeds of coarse cell k, binned ~1 per bin. Budget: bytes of raw cells to keep.
 template <class Seeds>
 const seed_cell& raw_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& k, std::size_t budget, near_seeds& ns) {
-    return ns.raw.get(owner, k, budget, [&](seed_cell& c) {
+    return ns.raw.get(owner, k, budget, [&] {
         const double L = gen.options().cell;
         ns.tmp.clear();
         gen.cell_seeds(k, ns.tmp);
         const vec3 lo = vec3(static_cast<double>(k.x), static_cast<double>(k.y), static_cast<double>(k.z)) * L;
-        bin_seeds(c, lo, lo + vec3(L), std::clamp(static_cast<int>(std::lround(std::cbrt(static_cast<double>(ns.tmp.size())))), 1, 32), ns.tmp);
+        const int g = std::clamp(static_cast<int>(std::lround(std::cbrt(static_cast<double>(ns.tmp.size())))), 1, 32);
+        return bin_seeds(lo, lo + vec3(L), g, ns.tmp.data(), ns.tmp.size());
     });
 }
 
+/// Seeds per bin of an extended cell: a query reads the bins meeting a cube of about 2 seed
+/// spacings; bins of ~2.5 seeds make that 2-3 bins per axis (fewer, longer runs than 1 seed per bin).
+inline constexpr double seeds_per_bin = 2.5;
+
 /// Every seed within margin M of coarse cell k (M = 1.2 seed spacings of the cell + 2 R, at most
-/// one cell: about the reach of a query of the cell), binned ~1 per bin. Budgets: bytes of
-/// extended and raw cells to keep.
+/// one cell: about the reach of a query of the cell), binned ~1 per bin. Budget: bytes of raw
+/// cells to keep.
 template <class Seeds>
-const seed_cell& extended_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& k, double R, std::size_t budget, std::size_t raw_budget, near_seeds& ns) {
-    return ns.ext.get(owner, k, budget, [&](seed_cell& c) {
-        const double L = gen.options().cell;
-        const std::size_t own = raw_cell(gen, owner, k, raw_budget, ns).seeds.size();
-        const double M = std::min(L, 1.2 * L / std::cbrt(static_cast<double>(std::max<std::size_t>(1, own))) + 2 * R);
-        const vec3 clo = vec3(static_cast<double>(k.x), static_cast<double>(k.y), static_cast<double>(k.z)) * L;
-        const vec3 lo = clo - vec3(M), hi = clo + vec3(L + M);
-        std::vector<vec3> in;
-        for (std::int64_t z = k.z - 1; z <= k.z + 1; ++z)
-            for (std::int64_t y = k.y - 1; y <= k.y + 1; ++y)
-                for (std::int64_t x = k.x - 1; x <= k.x + 1; ++x)
-                    for (const vec3& s : raw_cell(gen, owner, {x, y, z}, raw_budget, ns).seeds)
-                        if (s.x >= lo.x && s.y >= lo.y && s.z >= lo.z && s.x <= hi.x && s.y <= hi.y && s.z <= hi.z) in.push_back(s);
-        const int g = std::clamp(static_cast<int>(std::ceil(std::cbrt(static_cast<double>(in.size()) / 1.0))), 1, 48);
-        bin_seeds(c, lo, hi, g, in);
-    });
+seed_cell_ptr make_extended_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& k, double R, std::size_t raw_budget, near_seeds& ns) {
+    const double L = gen.options().cell;
+    const std::size_t own = raw_cell(gen, owner, k, raw_budget, ns).n;
+    const double spacing = L / std::cbrt(static_cast<double>(std::max<std::size_t>(1, own)));
+    const double M = std::min(L, 1.2 * spacing + 2 * R);
+    const vec3 clo = vec3(static_cast<double>(k.x), static_cast<double>(k.y), static_cast<double>(k.z)) * L;
+    const vec3 lo = clo - vec3(M), hi = clo + vec3(L + M);
+    thread_local std::vector<vec3> in;
+    in.clear();
+    for (std::int64_t z = k.z - 1; z <= k.z + 1; ++z)
+        for (std::int64_t y = k.y - 1; y <= k.y + 1; ++y)
+            for (std::int64_t x = k.x - 1; x <= k.x + 1; ++x) {
+                const seed_cell& c = raw_cell(gen, owner, {x, y, z}, raw_budget, ns);
+                const vec3* sd = c.seeds();
+                if (x == k.x && y == k.y && z == k.z) {
+                    in.insert(in.end(), sd, sd + c.n);
+                    continue;
+                }
+                // written always, kept when inside (no branch per seed)
+                std::size_t at = in.size();
+                in.resize(at + c.n);
+                for (std::uint32_t i = 0; i < c.n; ++i) {
+                    const vec3& s = sd[i];
+                    in[at] = s;
+                    at += (s.x >= lo.x) & (s.y >= lo.y) & (s.z >= lo.z) & (s.x <= hi.x) & (s.y <= hi.y) & (s.z <= hi.z);
+                }
+                in.resize(at);
+            }
+    const int g = std::clamp(static_cast<int>(std::ceil(std::cbrt(static_cast<double>(in.size()) / seeds_per_bin))), 1, 48);
+    seed_cell_ptr c = bin_seeds(lo, hi, g, in.data(), in.size());
+    // most points of the cell (~90% of a uniform process of the cell's density) have a seed
+    // within this distance: the first search radius of a query
+    c->guess = 0.82 * spacing;
+    return c;
+}
+
+/// q's extended cell (coarse cell k) from the cache, built when not held; null when the cache
+/// thrashes (full, and more than a quarter of the recent queries missed): then only one miss in 8
+/// builds a cell and the others are answered from raw cells (cheaper than a build that would be
+/// evicted before it is used again). Budgets: bytes of extended and raw cells to keep.
+template <class Seeds>
+const seed_cell* extended_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& k, double R, std::size_t budget, std::size_t raw_budget, near_seeds& ns) {
+    ns.recent -= ns.recent >> 6;  // misses per query, x 2^16, averaged over ~64 queries
+    if (const seed_cell* c = ns.ext.find(owner, k)) return c;
+    ns.recent += 1024;
+    if (ns.ext.full(ns.typical_ext, budget) && ns.recent > (1024 << 6) / 4 && ++ns.full_misses % 8 != 0) return nullptr;
+    const seed_cell& c = ns.ext.get(owner, k, budget, [&] { return make_extended_cell(gen, owner, k, R, raw_budget, ns); });
+    ns.typical_ext = c.bytes();
+    return &c;
 }
 
 /// Appends to ns.S (and ns.d2) every seed within h of q, from the raw cells meeting the cube
@@ -273,40 +370,62 @@ near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint6
     const auto margin = [&](double d) { return 1e-9 * (scale + d); };
     ws.S.clear(), ws.d2.clear();
     double d1 = 0, m = 0, rho = 0;
-    // 1. S: usually from q's extended cell alone. A seed of the 3^3 bins around q bounds d_1 (d');
-    //    the cube q +- h, h = d' + 2 t + 2 m(d') >= rho, inside the cell's box holds all of S.
-    const seed_cell& E = extended_cell(gen, owner, coarse_cell_of(q, L), R, budget, raw_budget, ws);
-    {
-        int b0[3], b1[3];
-        const double bin = 1.0 / E.inv_bin;
-        E.bin_range(q - vec3(bin), q + vec3(bin), b0, b1);
-        double best2 = std::numeric_limits<double>::infinity();
-        E.for_bins(b0, b1, [&](const vec3& s) {
-            const vec3 d = s - q;
-            best2 = std::min(best2, glm::dot(d, d));
-        });
-        const double d_up = std::sqrt(best2);
-        const double h = d_up + 2 * t + 2 * margin(d_up) + 1e-12 * scale;
+    // 1. S: usually from q's extended cell alone: the seeds within h of q, h first the cell's
+    //    guess (+ 2 t and margins); when the nearest of them, d_1, leaves rho = d_1 + 2 t + 2 m
+    //    within h, they hold all of S (Lemma 2's S); else h grows to rho (or doubles if none).
+    //    The ball q +- h must lie inside the cell's box.
+    if (const seed_cell* E = extended_cell(gen, owner, coarse_cell_of(q, L), R, budget, raw_budget, ws)) {
         const double slack = 1e-9 * scale;
-        if (std::isfinite(h) && glm::all(glm::greaterThanEqual(q - vec3(h), E.lo + vec3(slack))) &&
-            glm::all(glm::lessThanEqual(q + vec3(h), E.hi - vec3(slack)))) {
+        double h = E->guess + 2 * t + 2 * margin(E->guess) + 2 * slack;
+        bool done = false;
+        for (int pass = 0; pass < 4 && !done; ++pass) {
+            if (!(std::isfinite(h) && glm::all(glm::greaterThanEqual(q - vec3(h), E->lo + vec3(slack))) &&
+                  glm::all(glm::lessThanEqual(q + vec3(h), E->hi - vec3(slack)))))
+                break;
             const double h2 = h * h;
-            E.bin_range(q - vec3(h), q + vec3(h), b0, b1);
-            E.for_bins(b0, b1, [&](const vec3& s) {
+            // every seed of the bins meeting the cube q +- h is written; those within h are kept
+            // (no branch per seed: the bins hold a few seeds each, in runs of unpredictable length)
+            int b0[3], b1[3];
+            E->bin_range(q - vec3(h), q + vec3(h), b0, b1);
+            const std::uint32_t* st = E->start();
+            const int g = E->g;
+            std::size_t most = 0;
+            for (int bz = b0[2]; bz <= b1[2]; ++bz)
+                for (int by = b0[1]; by <= b1[1]; ++by) {
+                    const std::size_t row = static_cast<std::size_t>((bz * g + by) * g);
+                    most += st[row + static_cast<std::size_t>(b1[0]) + 1] - st[row + static_cast<std::size_t>(b0[0])];
+                }
+            ws.S.resize(most), ws.d2.resize(most);
+            std::size_t kept = 0;
+            double best = std::numeric_limits<double>::infinity();
+            E->for_bins(b0, b1, [&](const vec3& s) {
                 const vec3 d = s - q;
                 const double e2 = glm::dot(d, d);
-                if (e2 <= h2) ws.S.push_back(s), ws.d2.push_back(e2);
+                ws.S[kept] = s, ws.d2[kept] = e2;
+                kept += e2 <= h2;
+                best = std::min(best, e2);
             });
-            d1 = std::sqrt(*std::min_element(ws.d2.begin(), ws.d2.end()));
-            m = margin(d1);
-            rho = d1 + 2 * t + 2 * m;
+            ws.S.resize(kept), ws.d2.resize(kept);
+            if (best <= h2) {
+                d1 = std::sqrt(best);
+                m = margin(d1);
+                rho = d1 + 2 * t + 2 * m;
+                if (rho * (1 + 1e-12) + slack <= h) done = true;  // every seed within rho is in S
+                else h = rho * (1 + 1e-9) + 2 * slack;
+            } else if (std::isfinite(best)) {  // a seed beyond h bounds d_1
+                const double d_up = std::sqrt(best);
+                h = d_up * (1 + 1e-9) + 2 * t + 2 * margin(d_up) + 2 * slack;
+            } else {
+                h *= 2;
+            }
         }
+        if (!done) ws.S.clear(), ws.d2.clear();
     }
     // 1'. otherwise from the raw cells: a cube q +- h holding a seed within h (so the nearest seed
     //    is inside it); the first h is about the seed spacing, doubled until then (every coarse
     //    cell holds a seed, so one is within sqrt(3) L).
     if (ws.S.empty()) {
-        const std::size_t own = raw_cell(gen, owner, coarse_cell_of(q, L), raw_budget, ws).seeds.size();
+        const std::size_t own = raw_cell(gen, owner, coarse_cell_of(q, L), raw_budget, ws).n;
         double h = 0.7 * L / std::cbrt(static_cast<double>(std::max<std::size_t>(1, own))) + 2 * t;
         for (int pass = 0;; ++pass) {
             ws.S.clear(), ws.d2.clear();
@@ -335,10 +454,11 @@ near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint6
     for (std::size_t j = 0; j < n; ++j) {
         if (j == i1 || ws.d2[j] > rho2) continue;
         const vec3 dv = ws.S[j] - s1;
-        const double len = std::sqrt(glm::dot(dv, dv));
-        if (!(len > 0)) return near_answer::undecided;  // coincident seeds
-        const double delta = glm::dot(dv, 0.5 * (ws.S[j] + s1) - q) / len;
-        if (delta <= reach) ws.cand.push_back(static_cast<int>(j));
+        const double len2 = glm::dot(dv, dv);
+        if (!(len2 > 0)) return near_answer::undecided;  // coincident seeds
+        // delta_j <= reach, i.e. dot <= reach |s_j - s_1| (both sides squared when positive)
+        const double dot = glm::dot(dv, 0.5 * (ws.S[j] + s1) - q);
+        if (dot <= 0 || dot * dot <= reach * reach * len2) ws.cand.push_back(static_cast<int>(j));
     }
     if (ws.cand.size() < 3) return near_answer::empty;  // Lemmas 1 and 2: delta_(2) > t + m
     // 3. the lines of the candidate triples, clipped by the seeds within rho (Lemma 3)
