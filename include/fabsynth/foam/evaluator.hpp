@@ -13,6 +13,8 @@
 ///    seeds, so the pieces of two different boxes give the same bits;
 ///  - detail/point_cache.hpp: point queries answered from the binned edge pieces of their coarse
 ///    cell grown by the maximum radius (a "block"), kept in a per-thread cache;
+///  - detail/near_seeds.hpp: contains() away from a held block, decided from the seeds near the
+///    point (a certified bound and the few local edges), from per-thread caches of cell seeds;
 ///  - detail/slicer.hpp: the tiled parallel slicer (a seed cache per slab of slices, edges once
 ///    per tile column and slab, row intervals per edge and run filling for a constant radius),
 ///    O(slab) memory.
@@ -65,9 +67,11 @@ struct foam_options {
     double max_density = 1e300;  ///< extra density cap, seeds/mm^3 (the full-block bound always applies)
     double max_radius = 0;       ///< bound on tau(x), mm; 0 = Radius::max_value() (required otherwise)
     i64vec3 period{0};           ///< periodic foam: coarse cells per period per axis (seeds.hpp); 0 = aperiodic
-    /// Bytes of Voronoi edge blocks each thread keeps for point queries (contains, distance_to_edges,
-    /// coverage; detail/point_cache.hpp); a thread holds at most this plus one block. 0 keeps only
-    /// the block of the latest query. Answers do not depend on it.
+    /// Bytes of Voronoi edge blocks each thread keeps for point queries (contains, distance_to_edges;
+    /// detail/point_cache.hpp); a thread holds at most this plus one block. 0 keeps only the block
+    /// of the latest query. contains() also keeps, per thread and on top of it, the seeds of the
+    /// coarse cells it visited (detail/near_seeds.hpp): extended cells within 1/8 of this and raw
+    /// cells within 1/32 (plus one cell each). Answers do not depend on it.
     std::size_t point_cache_bytes = std::size_t(128) << 20;
 };
 
@@ -155,8 +159,8 @@ public:
     /// (detail/near_seeds.hpp: a certified bound on the distance to every edge, and the few edges
     /// of those seeds), from a per-thread cache of coarse-cell seeds; only points within ~1e-9 mm
     /// of a beam surface (and degenerate seed sets) pay the exact query. A block is built for
-    /// coherent access (missed 64 times within a short run of misses) or once it has been missed
-    /// a fraction of its own cost in such cheap answers (256 times).
+    /// coherent access only (missed 64 times within a short run of misses): at random, the seeds
+    /// answer about as fast as a held block, from ~1/20 of its memory.
     [[nodiscard]] bool contains(const vec3& q) const {
         const double t = radius(q);
         const i64vec3 k = coarse_cell_of(q, opt_.cell);

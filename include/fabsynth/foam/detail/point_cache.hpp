@@ -25,7 +25,9 @@
 /// those misses fell within 4 x that many of the thread's misses (a scan staying in the block). The other
 /// misses are answered from the pieces of the query's own small cube, with the same bits at the
 /// cost of an uncached query, so points scattered over more blocks than the budget holds do not
-/// build a block each.
+/// build a block each. contains() asks for runs only and answers its other misses from the seeds
+/// near the point (near_seeds.hpp), whose per-thread seed caches come on top of this budget
+/// (extended cells within 1/8 of it, raw cells within 1/32; foam_options::point_cache_bytes).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -281,7 +283,7 @@ public:
         tally& t = tally_[key & 16383];
         if (t.key != key) t = {0, 0, misses_, key};
         if (t.run == 0 || ((full || scattered > repeat) && misses_ - t.since > 4 * static_cast<std::uint64_t>(repeat))) t.run = 0, t.since = misses_;
-        ++t.total;
+        if (t.total < scattered) ++t.total;  // (saturates: never wraps)
         if (++t.run < repeat && t.total < scattered) return false;
         t = {};
         return true;
