@@ -71,7 +71,7 @@ struct foam_options {
     /// detail/point_cache.hpp); a thread holds at most this plus one block. 0 keeps only the block
     /// of the latest query. contains() also keeps, per thread and on top of it, the seeds of the
     /// coarse cells it visited (detail/near_seeds.hpp): extended cells within 1/8 of this and raw
-    /// cells within 1/16 (plus one cell each). Answers do not depend on it.
+    /// cells within another 1/8 (plus one cell each). Answers do not depend on it.
     std::size_t point_cache_bytes = std::size_t(128) << 20;
 };
 
@@ -169,7 +169,7 @@ public:
         if (const detail::edge_block* b = cache.find(id_, k)) return b->any_within(q, t);
         const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
         if (cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build, scattered_misses_before_build)) return build_block(k).any_within(q, t);
-        switch (detail::near_seed_test(q, t, gen_, id_, opt_.max_radius, seed_cache_budget(), seed_cache_budget() / 2, near_cache())) {
+        switch (detail::near_seed_test(q, t, gen_, id_, opt_.max_radius, seed_cache_budget(), seed_cache_budget(), near_cache())) {
         case detail::near_answer::solid: return true;
         case detail::near_answer::empty: return false;
         case detail::near_answer::undecided: break;
@@ -427,9 +427,9 @@ private:
         return cache;
     }
     // The thread's seeds for contains() (detail/near_seeds.hpp): extended cells within 1/8 of the
-    // point-cache budget, raw cells within 1/16 (an extended-cell build reads 27 raw cells: at 1/32
-    // the raw cells of a working set twice the seed cache thrashed too; 1/16 took that pass from
-    // ~0.7 to ~1.07 M points/s, benchmarks/README.md).
+    // point-cache budget, raw cells within another 1/8 (an extended-cell build reads 64 raw cells,
+    // and a thrashing extended-cell cache answers from raw cells: with a seed working set twice the
+    // cache, raw cells within 1/32 or 1/16 thrashed as well; benchmarks/README.md).
     static detail::near_seeds& near_cache() {
         thread_local detail::near_seeds cache;
         return cache;

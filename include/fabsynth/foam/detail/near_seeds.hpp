@@ -45,10 +45,11 @@
 ///
 /// The seed cache: a thread keeps the seeds of the coarse cells it visited (owner = the foam
 /// instance) in two open-addressing tables: raw cells (one coarse cell's seeds, ~1 per bin) and
-/// extended cells (the seeds within ~1.2 spacings of the cell, ~2.5 per bin), each cell one
-/// allocation (header, bin offsets, seeds); past its byte budget a table drops cells in insertion
+/// extended cells (the seeds within ~1.2 spacings of 2 x 2 x 2 coarse cells, ~2.5 per bin), each
+/// cell one allocation (header, bin offsets, seeds); past its byte budget a table drops cells in insertion
 /// order (a clock hand). When the extended cells thrash (the table full and over a quarter of the
-/// recent queries missing), only one miss in 8 builds a cell; the others gather from raw cells.
+/// recent queries missing), only one miss in 32 builds a cell (a build reads 64 raw cells; one in 8
+/// was slower with a working set twice the cache); the others gather from raw cells.
 /// Its contents never change an answer (the seeds of a cell are a function of the foam and the
 /// cell, and every path gathers all the seeds Lemma 2 asks for).
 #include <algorithm>
@@ -67,9 +68,15 @@
 
 namespace fabsynth::foam::detail {
 
+/// An extended cell covers E^3 coarse cells, E = 2^extended_shift (see make_extended_cell): 2 x 2 x 2
+/// (4 x 4 x 4 was slower cold in the benchmark cube: a build reads 216 raw cells).
+inline constexpr int extended_shift = 1;
+inline constexpr std::int64_t extended_span = std::int64_t(1) << extended_shift;
+static_assert(extended_span * extended_span * extended_span <= 64);
+
 /// Seeds of a box, binned (g bins per axis over the box): the seeds of one coarse cell (a "raw"
-/// cell), or every seed within a margin of one (an "extended" cell, which answers most queries of
-/// the cell alone). One allocation: this header, then the g^3 + 1 bin offsets, then the seeds
+/// cell), or every seed within a margin of 2 x 2 x 2 of them (an "extended" cell, which answers
+/// most queries of those cells alone). One allocation: this header, then the g^3 + 1 bin offsets, then the seeds
 /// sorted by bin (a query touches the header, its bins' offsets and their seeds, nothing else).
 struct seed_cell {
     std::uint64_t owner = 0;
@@ -78,7 +85,8 @@ struct seed_cell {
     std::uint32_t n = 0;    // seeds
     double inv_bin = 1.0;   // bins per mm
     vec3 lo{0.0}, hi{0.0};  // the box
-    double guess = 0;       // extended cells: a distance within which most points of the cell have a seed
+    // extended cells: per coarse cell (extended_index), a distance (mm) within which most of its points have a seed
+    float guess[extended_span * extended_span * extended_span] = {};
     std::size_t size = 0;   // bytes of the allocation
 
     [[nodiscard]] std::size_t bytes() const noexcept { return size; }
@@ -280,25 +288,46 @@ const seed_cell& raw_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& 
 /// spacings; bins of ~2.5 seeds make that 2-3 bins per axis (fewer, longer runs than 1 seed per bin).
 inline constexpr double seeds_per_bin = 2.5;
 
-/// Every seed within margin M of coarse cell k (M = 1.2 seed spacings of the cell + 2 R, at most
-/// one cell: about the reach of a query of the cell), binned ~1 per bin. Budget: bytes of raw
-/// cells to keep.
+/// The extended cell holding coarse cell k: floor(k / E) per axis.
+[[nodiscard]] inline i64vec3 extended_key(const i64vec3& k) noexcept { return {k.x >> extended_shift, k.y >> extended_shift, k.z >> extended_shift}; }  // floors (C++20 >>)
+/// Which of its extended cell's E^3 coarse cells k is (the index of seed_cell::guess).
+[[nodiscard]] inline int extended_index(const i64vec3& k) noexcept {
+    constexpr std::int64_t m = extended_span - 1;
+    return static_cast<int>((((k.z & m) << extended_shift) + (k.y & m)) << extended_shift | (k.x & m));
+}
+
+/// Every seed within margin M of the E^3 coarse cells of extended key e (M = 1.2 seed spacings of
+/// its sparsest cell + 2 R, at most one cell: about the reach of a query of those cells), binned
+/// ~2.5 per bin. Eight cells share one margin: the seeds stored per coarse cell (the box's volume
+/// over 8 cells') are about 2.5x fewer than with one cell per box, and a build reads 64 raw cells
+/// instead of 8 x 27 (a cold build's time went mostly to writing and reading memory not in cache).
+/// Budget: bytes of raw cells to keep.
 template <class Seeds>
-seed_cell_ptr make_extended_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& k, double R, std::size_t raw_budget, near_seeds& ns) {
+seed_cell_ptr make_extended_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& e, double R, std::size_t raw_budget, near_seeds& ns) {
     const double L = gen.options().cell;
-    const std::size_t own = raw_cell(gen, owner, k, raw_budget, ns).n;
-    const double spacing = L / std::cbrt(static_cast<double>(std::max<std::size_t>(1, own)));
-    const double M = std::min(L, 1.2 * spacing + 2 * R);
-    const vec3 clo = vec3(static_cast<double>(k.x), static_cast<double>(k.y), static_cast<double>(k.z)) * L;
-    const vec3 lo = clo - vec3(M), hi = clo + vec3(L + M);
+    constexpr std::int64_t E = extended_span;
+    const i64vec3 k0{E * e.x, E * e.y, E * e.z};
+    double spacing[64], widest = 0;
+    for (std::int64_t z = 0; z < E; ++z)
+        for (std::int64_t y = 0; y < E; ++y)
+            for (std::int64_t x = 0; x < E; ++x) {
+                const i64vec3 k{k0.x + x, k0.y + y, k0.z + z};
+                const std::size_t own = raw_cell(gen, owner, k, raw_budget, ns).n;
+                double& sp = spacing[extended_index(k)];
+                sp = L / std::cbrt(static_cast<double>(std::max<std::size_t>(1, own)));
+                widest = std::max(widest, sp);
+            }
+    const double M = std::min(L, 1.2 * widest + 2 * R);
+    const vec3 clo = vec3(static_cast<double>(k0.x), static_cast<double>(k0.y), static_cast<double>(k0.z)) * L;
+    const vec3 lo = clo - vec3(M), hi = clo + vec3(static_cast<double>(E) * L + M);
     thread_local std::vector<vec3> in;
     in.clear();
-    for (std::int64_t z = k.z - 1; z <= k.z + 1; ++z)
-        for (std::int64_t y = k.y - 1; y <= k.y + 1; ++y)
-            for (std::int64_t x = k.x - 1; x <= k.x + 1; ++x) {
+    for (std::int64_t z = k0.z - 1; z <= k0.z + E; ++z)
+        for (std::int64_t y = k0.y - 1; y <= k0.y + E; ++y)
+            for (std::int64_t x = k0.x - 1; x <= k0.x + E; ++x) {
                 const seed_cell& c = raw_cell(gen, owner, {x, y, z}, raw_budget, ns);
                 const vec3* sd = c.seeds();
-                if (x == k.x && y == k.y && z == k.z) {
+                if (x >= k0.x && x < k0.x + E && y >= k0.y && y < k0.y + E && z >= k0.z && z < k0.z + E) {
                     in.insert(in.end(), sd, sd + c.n);
                     continue;
                 }
@@ -314,23 +343,24 @@ seed_cell_ptr make_extended_cell(const Seeds& gen, std::uint64_t owner, const i6
             }
     const int g = std::clamp(static_cast<int>(std::ceil(std::cbrt(static_cast<double>(in.size()) / seeds_per_bin))), 1, 48);
     seed_cell_ptr c = bin_seeds(lo, hi, g, in.data(), in.size());
-    // most points of the cell (~90% of a uniform process of the cell's density) have a seed
-    // within this distance: the first search radius of a query
-    c->guess = 0.82 * spacing;
+    // most points of each coarse cell (~90% of a uniform process of its density) have a seed
+    // within this distance: the first search radius of a query in it
+    for (int o = 0; o < E * E * E; ++o) c->guess[o] = static_cast<float>(0.82 * spacing[o]);
     return c;
 }
 
-/// q's extended cell (coarse cell k) from the cache, built when not held; null when the cache
-/// thrashes (full, and more than a quarter of the recent queries missed): then only one miss in 8
-/// builds a cell and the others are answered from raw cells (cheaper than a build that would be
-/// evicted before it is used again). Budgets: bytes of extended and raw cells to keep.
+/// The extended cell of coarse cell k (extended_key) from the cache, built when not held; null when
+/// the cache thrashes (full, and more than a quarter of the recent queries missed): then only one
+/// miss in 32 builds a cell and the others are answered from raw cells (cheaper than a build that
+/// would be evicted before it is used again). Budgets: bytes of extended and raw cells to keep.
 template <class Seeds>
 const seed_cell* extended_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& k, double R, std::size_t budget, std::size_t raw_budget, near_seeds& ns) {
     ns.recent -= ns.recent >> 6;  // misses per query, x 2^16, averaged over ~64 queries
-    if (const seed_cell* c = ns.ext.find(owner, k)) return c;
+    const i64vec3 e = extended_key(k);
+    if (const seed_cell* c = ns.ext.find(owner, e)) return c;
     ns.recent += 1024;
-    if (ns.ext.full(ns.typical_ext, budget) && ns.recent > (1024 << 6) / 4 && ++ns.full_misses % 8 != 0) return nullptr;
-    const seed_cell& c = ns.ext.get(owner, k, budget, [&] { return make_extended_cell(gen, owner, k, R, raw_budget, ns); });
+    if (ns.ext.full(ns.typical_ext, budget) && ns.recent > (1024 << 6) / 4 && ++ns.full_misses % 32 != 0) return nullptr;
+    const seed_cell& c = ns.ext.get(owner, e, budget, [&] { return make_extended_cell(gen, owner, e, R, raw_budget, ns); });
     ns.typical_ext = c.bytes();
     return &c;
 }
@@ -378,9 +408,11 @@ near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint6
     //    guess (+ 2 t and margins); when the nearest of them, d_1, leaves rho = d_1 + 2 t + 2 m
     //    within h, they hold all of S (Lemma 2's S); else h grows to rho (or doubles if none).
     //    The ball q +- h must lie inside the cell's box.
-    if (const seed_cell* E = extended_cell(gen, owner, coarse_cell_of(q, L), R, budget, raw_budget, ws)) {
+    const i64vec3 kq = coarse_cell_of(q, L);
+    if (const seed_cell* E = extended_cell(gen, owner, kq, R, budget, raw_budget, ws)) {
         const double slack = 1e-9 * scale;
-        double h = E->guess + 2 * t + 2 * margin(E->guess) + 2 * slack;
+        const double guess = E->guess[extended_index(kq)];
+        double h = guess + 2 * t + 2 * margin(guess) + 2 * slack;
         bool done = false;
         for (int pass = 0; pass < 4 && !done; ++pass) {
             if (!(std::isfinite(h) && glm::all(glm::greaterThanEqual(q - vec3(h), E->lo + vec3(slack))) &&

@@ -27,7 +27,7 @@
 /// cost of an uncached query, so points scattered over more blocks than the budget holds do not
 /// build a block each. contains() asks for runs only and answers its other misses from the seeds
 /// near the point (near_seeds.hpp), whose per-thread seed caches come on top of this budget
-/// (extended cells within 1/8 of it, raw cells within 1/16; foam_options::point_cache_bytes).
+/// (extended cells within 1/8 of it, raw cells within another 1/8; foam_options::point_cache_bytes).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
