@@ -13,6 +13,8 @@
 ///    seeds, so the pieces of two different boxes give the same bits;
 ///  - detail/point_cache.hpp: point queries answered from the binned edge pieces of their coarse
 ///    cell grown by the maximum radius (a "block"), kept in a per-thread cache;
+///  - detail/near_seeds.hpp: contains() away from a held block, decided from the seeds near the
+///    point (a certified bound and the few local edges), from per-thread caches of cell seeds;
 ///  - detail/slicer.hpp: the tiled parallel slicer (a seed cache per slab of slices, edges once
 ///    per tile column and slab, row intervals per edge and run filling for a constant radius),
 ///    O(slab) memory.
@@ -47,6 +49,7 @@
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/types.hpp"
 #include "fabsynth/foam/detail/certificate.hpp"
+#include "fabsynth/foam/detail/near_seeds.hpp"
 #include "fabsynth/foam/detail/point_cache.hpp"
 #include "fabsynth/foam/detail/slicer.hpp"
 #include "fabsynth/foam/detail/voronoi_edges.hpp"
@@ -64,9 +67,11 @@ struct foam_options {
     double max_density = 1e300;  ///< extra density cap, seeds/mm^3 (the full-block bound always applies)
     double max_radius = 0;       ///< bound on tau(x), mm; 0 = Radius::max_value() (required otherwise)
     i64vec3 period{0};           ///< periodic foam: coarse cells per period per axis (seeds.hpp); 0 = aperiodic
-    /// Bytes of Voronoi edge blocks each thread keeps for point queries (contains, distance_to_edges,
-    /// coverage; detail/point_cache.hpp); a thread holds at most this plus one block. 0 keeps only
-    /// the block of the latest query. Answers do not depend on it.
+    /// Bytes of Voronoi edge blocks each thread keeps for point queries (contains, distance_to_edges;
+    /// detail/point_cache.hpp); a thread holds at most this plus one block. 0 keeps only the block
+    /// of the latest query. contains() also keeps, per thread and on top of it, the seeds of the
+    /// coarse cells it visited (detail/near_seeds.hpp): extended cells within 1/8 of this and raw
+    /// cells within another 1/8 (plus one cell each). Answers do not depend on it.
     std::size_t point_cache_bytes = std::size_t(128) << 20;
 };
 
@@ -150,9 +155,25 @@ public:
 
     /// F(q): true iff the distance from q to the Voronoi edges is <= tau(q). Repeated calls near
     /// each other reuse the edge pieces of their block (detail/point_cache.hpp), per thread.
+    /// A point whose block is not held is first decided from its nearest seeds alone
+    /// (detail/near_seeds.hpp: a certified bound on the distance to every edge, and the few edges
+    /// of those seeds), from a per-thread cache of coarse-cell seeds; only points within ~1e-9 mm
+    /// of a beam surface (and degenerate seed sets) pay the exact query. A block is built for
+    /// coherent access only (missed 64 times within a short run of misses): at random, the seeds
+    /// answer about as fast as a held block, from ~1/20 of its memory.
     [[nodiscard]] bool contains(const vec3& q) const {
         const double t = radius(q);
-        if (const detail::edge_block* b = block_for(q)) return b->any_within(q, t);
+        const i64vec3 k = coarse_cell_of(q, opt_.cell);
+        detail::edge_block_cache& cache = thread_cache();
+        cache.set_budget(opt_.point_cache_bytes);
+        if (const detail::edge_block* b = cache.find(id_, k)) return b->any_within(q, t);
+        const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
+        if (cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build, scattered_misses_before_build)) return build_block(k).any_within(q, t);
+        switch (detail::near_seed_test(q, t, gen_, id_, opt_.max_radius, seed_cache_budget(), seed_cache_budget(), near_cache())) {
+        case detail::near_answer::solid: return true;
+        case detail::near_answer::empty: return false;
+        case detail::near_answer::undecided: break;
+        }
         return solid_near(q, t);
     }
 
@@ -360,9 +381,13 @@ private:
         cache.set_budget(opt_.point_cache_bytes);
         if (const detail::edge_block* b = cache.find(id_, k)) return b;
         const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
-        if (!cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build)) return nullptr;
+        if (!cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build, misses_before_build)) return nullptr;
+        return &build_block(k);
+    }
+    // Block k, built now when it is not held.
+    const detail::edge_block& build_block(const i64vec3& k) const {
         thread_local detail::foam_workspace ws;
-        return &cache.get(id_, k, opt_.point_cache_bytes, [&](detail::edge_block& blk) {
+        return thread_cache().get(id_, k, opt_.point_cache_bytes, [&](detail::edge_block& blk) {
             detail::build_edge_block(blk, id_, k, opt_.cell, opt_.max_radius, ws, [&](const box3& bx, detail::foam_workspace& w, auto&& f) {
                 detail::for_each_voronoi_piece(bx, gen_, opt_.max_radius, id_, w, f);
             });
@@ -393,10 +418,23 @@ private:
     // A block costs about 200 of its misses to build (each answered from its own small cube);
     // building after 64 keeps a coherent scan cheap and bounds the waste of scattered points.
     static constexpr int misses_before_build = 64;
+    // contains() answers a scattered miss from its nearest seeds (~0.5 us, detail/near_seeds.hpp),
+    // about as fast as a held block at random (the block's memory is ~20x the seeds'), so a block
+    // is built for runs of misses only (this count is never reached within the run window).
+    static constexpr int scattered_misses_before_build = std::numeric_limits<int>::max();
     static detail::edge_block_cache& thread_cache() {
         thread_local detail::edge_block_cache cache;
         return cache;
     }
+    // The thread's seeds for contains() (detail/near_seeds.hpp): extended cells within 1/8 of the
+    // point-cache budget, raw cells within another 1/8 (an extended-cell build reads 64 raw cells,
+    // and a thrashing extended-cell cache answers from raw cells: with a seed working set twice the
+    // cache, raw cells within 1/32 or 1/16 thrashed as well; benchmarks/README.md).
+    static detail::near_seeds& near_cache() {
+        thread_local detail::near_seeds cache;
+        return cache;
+    }
+    [[nodiscard]] std::size_t seed_cache_budget() const noexcept { return opt_.point_cache_bytes / 8; }
 
     static std::uint64_t next_id() {
         static std::atomic<std::uint64_t> counter{0};

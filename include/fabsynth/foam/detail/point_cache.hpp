@@ -25,14 +25,15 @@
 /// those misses fell within 4 x that many of the thread's misses (a scan staying in the block). The other
 /// misses are answered from the pieces of the query's own small cube, with the same bits at the
 /// cost of an uncached query, so points scattered over more blocks than the budget holds do not
-/// build a block each.
+/// build a block each. contains() asks for runs only and answers its other misses from the seeds
+/// near the point (near_seeds.hpp), whose per-thread seed caches come on top of this budget
+/// (extended cells within 1/8 of it, raw cells within another 1/8; foam_options::point_cache_bytes).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
 #include "fabsynth/core/box.hpp"
@@ -269,14 +270,22 @@ public:
     /// missed `repeat` times, within the last 4 x repeat misses of this thread when the cache is
     /// full: has no room for `typical` more bytes and its least recently used block was used
     /// within the last 2^18 queries (older blocks are stale: evicting them costs nothing).
-    [[nodiscard]] bool worth_building(std::uint64_t owner, const i64vec3& k, std::size_t budget, std::size_t typical, int repeat) {
+    /// `scattered` > `repeat` (callers whose misses are cheap): the window always applies, and a
+    /// block missed `scattered` times in all is built too (building then costs about what its
+    /// misses did).
+    [[nodiscard]] bool worth_building(std::uint64_t owner, const i64vec3& k, std::size_t budget, std::size_t typical, int repeat, int scattered) {
         ++misses_;
         const bool full = bytes_ + typical > budget && !blocks_.empty() && clock_ - blocks_[oldest()]->last_use < (std::uint64_t(1) << 18);
-        if (tally_.size() >= 65536) tally_.clear();  // bounds the tally's memory
-        tally& t = tally_[hash64(owner, k.x, k.y, k.z)];
-        if (t.count == 0 || (full && misses_ - t.since > 4 * static_cast<std::uint64_t>(repeat))) t = {0, misses_};
-        if (++t.count < repeat) return false;
-        tally_.erase(hash64(owner, k.x, k.y, k.z));
+        // a direct-mapped tally: a block sharing the slot restarts the count (answers never
+        // depend on it)
+        const std::uint64_t key = hash64(owner, k.x, k.y, k.z);
+        if (tally_.empty()) tally_.resize(16384);
+        tally& t = tally_[key & 16383];
+        if (t.key != key) t = {0, 0, misses_, key};
+        if (t.run == 0 || ((full || scattered > repeat) && misses_ - t.since > 4 * static_cast<std::uint64_t>(repeat))) t.run = 0, t.since = misses_;
+        if (t.total < scattered) ++t.total;  // (saturates: never wraps)
+        if (++t.run < repeat && t.total < scattered) return false;
+        t = {};
         return true;
     }
     /// The block (owner, k), built by build(blk) when it is not held. `budget`: bytes to keep.
@@ -332,11 +341,12 @@ private:
     }
 
     struct tally {
-        int count = 0;
+        int run = 0, total = 0;  // misses in the current run (window), and in all
         std::uint64_t since = 0;  // this thread's miss count at the block's first counted miss
+        std::uint64_t key = 0;    // hash of (owner, block)
     };
     std::uint64_t misses_ = 0;
-    std::unordered_map<std::uint64_t, tally> tally_;  // misses per block hash
+    std::vector<tally> tally_;  // misses per block, direct-mapped by hash
     std::size_t budget_ = SIZE_MAX;
     std::vector<std::unique_ptr<edge_block>> blocks_;
     std::vector<edge_block*> table_;  // open addressing, linear probing; null = empty
