@@ -202,8 +202,10 @@ private:
     /// Refuses any parameter of `kw` outside `allowed`, naming it (and what is supported).
     void only_parameters(const std::string& kw, const std::map<std::string, std::string>& p,
                          std::initializer_list<const char*> allowed) const {
-        for (const auto& [key, value] : p) {
-            if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) != allowed.end()) continue;
+        for (const auto& entry : p) {  // not a structured binding: clang 14 cannot capture one in the lambda
+            const std::string& key = entry.first;
+            const std::string& value = entry.second;
+            if (std::find_if(allowed.begin(), allowed.end(), [&key](const char* a) { return key == a; }) != allowed.end()) continue;
             std::string supported;
             for (const char* a : allowed) supported += std::string(supported.empty() ? "" : ", ") + a;
             fail("*" + kw + " parameter " + key + (value.empty() ? "" : "=" + value) + " is not supported" +
