@@ -228,12 +228,14 @@ struct band_solid {
 
 /// Phase 3, before an extrusion: the synthesized pattern's shapes must not touch (they would share
 /// an edge of the solid; find_ring_contact, closer than 1e-6 H). Contacts on the cut lines u = 0
-/// and u = L of a closed curve are the seam's, glued by the extrusion, and are left alone.
+/// and u = L are left alone: on a closed curve they are the seam's, glued by the extrusion; on an
+/// open one the band's flat ends, where shapes cut by the same line meet in a vertex the
+/// extrusion keeps closed (the lace along a line of the main job has one).
 inline void require_separate_band_shapes(const band_solid& b, const pattern_options& opt) {
     const double tol = 1e-6 * opt.band_height;
     const auto c = find_ring_contact(b.synthesis.polygons, tol);
     if (!c) return;
-    if (b.closed && (std::abs(c->at.x) <= tol || std::abs(c->at.x - b.band_length) <= tol)) return;
+    if (std::abs(c->at.x) <= tol || std::abs(c->at.x - b.band_length) <= tol) return;
     throw invalid_input("make_pattern: the synthesized pattern's shapes touch at u = " + std::to_string(c->at.x) + " mm along the curve, v = " +
                         std::to_string(c->at.y) + " mm across it: the extruded band would not be a closed solid there; "
                         "try another seed, band height or component count");
