@@ -160,7 +160,12 @@ TEST_CASE("curve_patterns along a curve in space (--curve3d, --twist)", "[cli][c
         const double a = 2 * 3.141592653589793 * i / 240;
         ring += std::to_string(40 * std::cos(a)) + "," + std::to_string(40 * std::sin(a)) + "," + std::to_string(6 * std::cos(3 * a)) + "\n";
     }
-    const std::string helix_csv = write_file("helix.csv", helix), ring_csv = write_file("ring.csv", ring);
+    std::string tight;  // radius 30 mm, 2 turns 6 mm apart: a band 20 mm high, stood up by the twist, crosses the next turn
+    for (int i = 0; i <= 400; ++i) {
+        const double a = 4 * 3.141592653589793 * i / 400;
+        tight += std::to_string(30 * std::cos(a)) + "," + std::to_string(30 * std::sin(a)) + "," + std::to_string(12.0 * i / 400) + "\n";
+    }
+    const std::string helix_csv = write_file("helix.csv", helix), ring_csv = write_file("ring.csv", ring), tight_csv = write_file("tight_helix.csv", tight);
     const std::string bad_csv = write_file("bad_curve.csv", "0,0,0\n1.2.3,4\n");
     for (const cli_case& c : std::vector<cli_case>{
              {"twist without --curve3d", {"--exemplar", vec + "/greek_key.svg", "--line", "100", "--twist", "90", "--height", "10", "-o", out}, 2, "twist"},
@@ -169,6 +174,8 @@ TEST_CASE("curve_patterns along a curve in space (--curve3d, --twist)", "[cli][c
              {"malformed point", {"--exemplar", vec + "/greek_key.svg", "--curve3d", bad_csv, "--height", "8", "-o", out}, 5, "bad_curve.csv:2"},
              {"band wider than the bend",
               {"--exemplar", vec + "/greek_key.svg", "--curve3d", helix_csv, "--height", "80", "-o", out}, 2, "radius of curvature"},
+             {"a band meeting itself",
+              {"--exemplar", vec + "/greek_key.svg", "--curve3d", tight_csv, "--twist", "180", "--height", "20", "-o", out}, 2, "meets itself"},
          })
         check_case("curve_patterns", c);
     CHECK_FALSE(fs::exists(out));

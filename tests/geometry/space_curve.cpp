@@ -139,6 +139,80 @@ TEST_CASE("space curve: a closed curve in space comes back to its own frame", "[
     }
 }
 
+// A stadium in the plane z = 0: two straight legs 2 r apart, of length `leg`, joined by half
+// circles of radius r (counter-clockwise, sampled every ~0.5 mm).
+std::vector<vec3> stadium(double r, double leg) {
+    std::vector<vec3> p;
+    const int nl = static_cast<int>(leg / 0.5), na = static_cast<int>(std::numbers::pi * r / 0.5);
+    for (int i = 0; i < nl; ++i) p.push_back({leg * i / nl, -r, 0});
+    for (int i = 0; i < na; ++i) {
+        const double a = -std::numbers::pi / 2 + std::numbers::pi * i / na;
+        p.push_back({leg + r * std::cos(a), r * std::sin(a), 0});
+    }
+    for (int i = 0; i < nl; ++i) p.push_back({leg - leg * i / nl, r, 0});
+    for (int i = 0; i < na; ++i) {
+        const double a = std::numbers::pi / 2 + std::numbers::pi * i / na;
+        p.push_back({r * std::cos(a), r * std::sin(a), 0});
+    }
+    return p;
+}
+
+TEST_CASE("space curve: distant parts of a band that meet are found, with their distance", "[geometry][space_curve]") {
+    // the stadium's band lies in its plane (up = z): the legs' bands face each other across a gap
+    // of 2 r - 2 h (the analytic oracle); thickness 1 mm, so samples every 1/8 mm and parts closer
+    // than 2.5 / 8 mm count as touching
+    const space_curve loop = space_curve::polyline(stadium(10.0, 80.0), true);
+    const double t = 1.0;
+    for (const double h : {8.0, 9.0}) {  // gaps 4 and 2 mm: clear
+        INFO("h " << h);
+        CHECK_FALSE(loop.find_self_contact(h, t).has_value());
+    }
+    const auto tight = loop.find_self_contact(9.9, t);  // gap 0.2 mm: touching
+    REQUIRE(tight.has_value());
+    CHECK(tight->clearance == Approx(2.5 / 8));
+    CHECK(tight->distance <= tight->clearance);
+    CHECK(tight->distance >= 0.2 - 1e-9);  // never below the true gap (both samples lie on the band)
+    CHECK(std::abs(tight->at.y) < 0.2);     // in the middle of the gap, between the legs
+    CHECK(tight->u2 - tight->u1 > std::numbers::pi * 10.0);  // on the two legs, not one
+    // a clearance asked for: the 2 mm gap is too narrow for 2.5 mm, wide enough for 1.5 mm
+    const auto wide = loop.find_self_contact(9.0, t, 2.5);
+    REQUIRE(wide.has_value());
+    CHECK(wide->distance >= 2.0 - 1e-9);  // the first pair along the curve: between the gap and the clearance
+    CHECK(wide->distance < 2.5);
+    CHECK(wide->clearance == 2.5);
+    CHECK_FALSE(loop.find_self_contact(9.0, t, 1.5).has_value());
+
+    // a figure eight crossing itself at the origin: the contact is at the crossing, half a loop apart
+    std::vector<vec3> eight;
+    for (int i = 0; i < 400; ++i) {
+        const double a = 2 * std::numbers::pi * i / 400;
+        eight.push_back({30 * std::sin(a), 15 * std::sin(2 * a), 0});
+    }
+    const space_curve e = space_curve::polyline(eight, true);
+    const auto x = e.find_self_contact(2.0, t);
+    REQUIRE(x.has_value());
+    CHECK(glm::length(x->at) < 3.0);
+    CHECK(std::abs(x->u2 - x->u1 - 0.5 * e.length()) < 8.0);
+
+    // a helix of radius 10 whose band starts standing along the axis (up = x, so the normal starts
+    // along z): turns 20 mm apart keep a band 14 mm high (and 1 mm thick) at least 5 mm apart
+    // whatever its turn; turns 6 mm apart do not (the next turn's centre line passes through the
+    // first turn's band, 6 mm above its centre)
+    for (const double pitch : {20.0, 6.0}) {
+        std::vector<vec3> helix;
+        for (int i = 0; i <= 240; ++i) {
+            const double a = 4 * std::numbers::pi * i / 240;
+            helix.push_back({10 * std::cos(a), 10 * std::sin(a), pitch * 2 * i / 240});
+        }
+        const space_curve c = space_curve::polyline(helix, false, {.up = {1, 0, 0}});
+        INFO("pitch " << pitch << ", normal at the start " << c.band_point(0, 1).z - c.band_point(0, 0).z);
+        CHECK(c.find_self_contact(7.0, t).has_value() == (pitch < 14.0));
+    }
+    CHECK_THROWS_AS(loop.find_self_contact(-1.0, t), invalid_input);
+    CHECK_THROWS_AS(loop.find_self_contact(1.0, 0.0), invalid_input);
+    CHECK_THROWS_AS(loop.find_self_contact(1.0, t, std::nan("")), invalid_input);
+}
+
 TEST_CASE("space curve: bad input", "[geometry][space_curve]") {
     const std::vector<vec3> tri{{0, 0, 0}, {10, 0, 0}, {0, 10, 5}};
     CHECK_THROWS_AS(space_curve::polyline({{0, 0, 0}}, false), invalid_input);

@@ -309,4 +309,39 @@ TEST_CASE("pipeline: bands along helices and twists are watertight in float or r
     CHECK(built > refused);
 }
 
+TEST_CASE("pipeline: a band whose distant parts meet is refused before the synthesis, with where and what to change", "[vector_pattern][pipeline]") {
+    // a helix of radius 10 mm rising 6 mm per turn with a half turn of twist: a band 14 mm high
+    // crosses the next turn (space_curve::find_self_contact, tested against an analytic gap in
+    // tests/geometry); the same helix rising 20 mm per turn is built, and its solid is watertight
+    const vp::exemplar raw = fabsynth::test::load_vector_exemplar("greek_key.svg");
+    for (const double pitch : {6.0, 20.0}) {
+        std::vector<vec3> helix;
+        for (int i = 0; i <= 150; ++i) {
+            const double a = 3 * std::numbers::pi * i / 150;
+            helix.push_back({10 * std::cos(a), 10 * std::sin(a), 1.5 * pitch * i / 150});
+        }
+        const space_curve curve = space_curve::polyline(helix, false, {.twist_degrees = 180});
+        vp::pattern_options opt = options(14.0, 1u);
+        opt.render.width = opt.render.height = 20;
+        std::vector<std::string> stages;
+        const auto run = [&] {
+            return vp::make_pattern(raw, vp::along_space_curve{curve}, opt, [&](double, std::string_view stage) {
+                stages.emplace_back(stage);
+                return true;
+            });
+        };
+        INFO("pitch " << pitch);
+        if (pitch < 14.0) {
+            CHECK_THROWS_WITH(run(), Catch::Matchers::Contains("meets itself") && Catch::Matchers::Contains("u = ") &&
+                                         Catch::Matchers::Contains("band height 14 mm") && Catch::Matchers::Contains("lower the band height or the twist"));
+            CHECK(std::find(stages.begin(), stages.end(), "synthesis") == stages.end());  // refused before the work
+            // the extrusion, called directly, refuses the same band
+            const vp::synthesis_result s = vp::synthesize_along(vp::scaled(raw, 14.0 / raw.height()), {.length = curve.length(), .band_height = 14.0});
+            CHECK_THROWS_WITH(extrude_along_space_curve(s.polygons, curve, {.thickness = 1.0}), Catch::Matchers::Contains("meets itself"));
+        } else {
+            CHECK(analyze_topology(run().mesh).is_watertight());
+        }
+    }
+}
+
 }  // namespace vector_pattern_pipeline_test

@@ -6,9 +6,12 @@
 // closed band cuts the vase in two (its upper part, an annulus thickened, is a solid torus).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "fabsynth/surface/disk_parameterization.hpp"
@@ -16,6 +19,7 @@
 #include "fabsynth/surface/curve.hpp"
 #include "fabsynth/surface/decoration.hpp"
 #include "fabsynth/io/mesh.hpp"
+#include "fabsynth/vector_pattern/pipeline.hpp"
 #include "fabsynth/vector_pattern/synthesis.hpp"
 #include "support/raster_topology.hpp"
 #include "support/vector_band.hpp"
@@ -88,6 +92,88 @@ TEST_CASE("surface band: emboss and carve on the vase have the developed band's 
                                                                  {.mode = decoration_mode::emboss, .shell = 2.0, .height = 1.0, .cell = bc.cell}));
         CHECK(signed_volume(embossed) - shell_only == Approx(area * 1.0).epsilon(0.1));
     }
+}
+
+// The bundled mesh `name` scaled (about its box's centre, moved to the origin) so that its longest
+// side is `size` mm, and 8 of its vertices around its middle height: the points of a closed band curve.
+struct ringed_mesh {
+    triangle_mesh mesh;
+    std::vector<vec3> ring;
+};
+ringed_mesh ringed(const std::string& name, double size) {
+    ringed_mesh r{io::read_mesh(std::string(FABSYNTH_DATA_DIR) + "/meshes/" + name + ".obj"), {}};
+    vec3 lo(1e300), hi(-1e300);
+    for (const vec3& p : r.mesh.vertices) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const vec3 centre = 0.5 * (lo + hi), side = hi - lo;
+    const double k = size / std::max({side.x, side.y, side.z});
+    for (vec3& p : r.mesh.vertices) p = (p - centre) * k;
+    const double band = 0.08 * size;
+    for (int i = 0; i < 8; ++i) {  // the vertex farthest out in direction i among those near z = 0
+        const vec3 d{std::cos(i * std::numbers::pi / 4), std::sin(i * std::numbers::pi / 4), 0.0};
+        const vec3* best = nullptr;
+        for (const vec3& p : r.mesh.vertices)
+            if (std::abs(p.z) < band && (!best || glm::dot(p, d) > glm::dot(*best, d))) best = &p;
+        r.ring.push_back(*best);
+    }
+    return r;
+}
+
+TEST_CASE("surface band: emboss and carve on the bundled meshes at cells of 0.2 to 0.5 mm are watertight in float or refused up front",
+          "[vector_pattern][surface][slow]") {
+    // Each bundled mesh (scaled to 25 mm) with a closed curve through 8 points around its middle
+    // is decorated at every cell: the written (float) solid must be watertight, and an emboss one
+    // piece (a relief on a shell of one piece), or the run is refused before the decoration with
+    // invalid_input (the kitten has a handle). Never a solver_error, never a refusal after the
+    // work. The band height is 3 mm, or less where the curve bends tighter (it would fold: 80% of
+    // the smallest radius of curvature as half-height; the wiggly rings of the bunny, spot and the
+    // fandisk's creases get 0.8-1.6 mm bands, the hardest case for the float rounding).
+    const auto disks = fabsynth::test::load_vector_exemplar("disks.svg");
+    std::size_t built = 0;
+    std::vector<std::string> refused;
+    for (const char* name : {"vase", "egg_stand", "bunny_lowres", "spot", "fandisk", "kitten_lowres"}) {
+        const ringed_mesh m = ringed(name, 25.0);
+        const vector_pattern::on_surface where{.surface = m.mesh, .points = m.ring, .closed = true};
+        for (const double cell : {0.2, 0.3, 0.4, 0.5})
+            for (const decoration_mode mode : {decoration_mode::emboss, decoration_mode::carve}) {
+                INFO(name << " cell " << cell << (mode == decoration_mode::emboss ? " emboss" : " carve"));
+                vector_pattern::pattern_options opt;
+                opt.band_height = 3.0;
+                opt.decoration = {.mode = mode, .shell = 2.0, .height = 1.0, .cell = cell};
+                if (std::string(name) != "kitten_lowres")
+                    for (int pass = 0; pass < 4; ++pass) {  // (the traced curve depends a little on H: points closer than H / 8 merge)
+                        const double r = vector_pattern::detail::pipeline::traced_surface_band(where, opt).curve.min_radius_of_curvature();
+                        opt.band_height = std::min(opt.band_height, 1.4 * r);
+                    }
+                opt.render.width = opt.render.height = 20;
+                std::vector<std::string> stages;
+                try {
+                    const vector_pattern::pattern_result r = vector_pattern::make_pattern(disks, where, opt, [&](double, std::string_view stage) {
+                        stages.emplace_back(stage);
+                        return true;
+                    });
+                    const mesh_topology_info t = analyze_topology(r.mesh);
+                    CHECK(t.is_watertight());
+                    if (mode == decoration_mode::emboss && cell <= opt.band_height / 6) {
+                        // the relief lies on the shell: no component the bare shell (a speck of a
+                        // pattern, same grid) does not have. Only where the cell resolves the
+                        // motifs: the disks of a 1 mm band are ~0.5 mm wide, and at a cell of
+                        // their size their reliefs break into specks (watertight, not refused:
+                        // a known limit, see the closing note of this test's issue)
+                        const mesh_topology_info bare = analyze_topology(decorate_surface(m.mesh, vector_pattern::detail::pipeline::traced_surface_band(where, opt).curve,
+                                                                                          {{{{1, 0}, {1.01, 0}, {1, 0.01}}, {}}}, opt.decoration));
+                        CHECK(t.components <= bare.components);
+                    }
+                    ++built;
+                } catch (const invalid_input& e) {
+                    CHECK(std::find(stages.begin(), stages.end(), "decorate the surface") == stages.end());
+                    refused.push_back(std::string(name) + " cell " + std::to_string(cell) + ": " + e.what());
+                }
+            }
+    }
+    std::string why;
+    for (const std::string& r : refused) why += "\n" + r;
+    INFO(built << " built; refused:" << why);
+    CHECK(built == 40);  // every mesh but the kitten, at every cell
 }
 
 }  // namespace vector_pattern_surface_band_test

@@ -167,9 +167,13 @@ public:
         detail::edge_block_cache& cache = thread_cache();
         cache.set_budget(opt_.point_cache_bytes);
         if (const detail::edge_block* b = cache.find(id_, k)) return b->any_within(q, t);
+        // the seeds answer first, the miss tally after them (its line loads meanwhile): a block
+        // built now gives the same bits, one near-seed test wasted per block
+        cache.prefetch_tally(id_, k);
+        const detail::near_answer near = detail::near_seed_test(q, k, t, gen_, id_, opt_.max_radius, seed_cache_budget(), seed_cache_budget(), near_cache());
         const std::size_t typical = cache.size() ? cache.bytes() / cache.size() : 0;
         if (cache.worth_building(id_, k, opt_.point_cache_bytes, typical, misses_before_build, scattered_misses_before_build)) return build_block(k).any_within(q, t);
-        switch (detail::near_seed_test(q, t, gen_, id_, opt_.max_radius, seed_cache_budget(), seed_cache_budget(), near_cache())) {
+        switch (near) {
         case detail::near_answer::solid: return true;
         case detail::near_answer::empty: return false;
         case detail::near_answer::undecided: break;

@@ -548,6 +548,8 @@ inline planar_triangulation parameter_triangulation(const std::vector<polygon_wi
 /// C(u) + v n(u) + w b(u), so the thickness runs along the frame's third axis. The map keeps
 /// orientation (t, n, b right-handed), so the slab stays closed and outward. On a curve in the
 /// plane z = c with up = z and no twist this is extrude_along_curve's mesh, moved to z = c.
+/// Also throws invalid_input when distant parts of the band meet (space_curve::find_self_contact
+/// with the polygons' half-height and the thickness): the slab would cross itself.
 [[nodiscard]] inline triangle_mesh extrude_along_space_curve(const std::vector<polygon_with_holes>& band_polys, const space_curve& curve,
                                                              const curve_extrude_options& opt = {}) {
     require_positive(opt.thickness, "extrude_along_space_curve: thickness");
@@ -557,6 +559,10 @@ inline planar_triangulation parameter_triangulation(const std::vector<polygon_wi
     const double L = curve.length();
     const double vmax = detail::band::check_band_polygons(band_polys, L, "extrude_along_space_curve");
     curve.check_band(vmax);
+    if (const auto c = curve.find_self_contact(vmax, opt.thickness))
+        throw invalid_input("extrude_along_space_curve: the band meets itself: its cross-sections at u = " + std::to_string(c->u1) + " and " +
+                            std::to_string(c->u2) + " mm along the curve come within " + std::to_string(c->distance) + " mm (parts closer than " +
+                            std::to_string(c->clearance) + " mm count as touching)");
     const double du = opt.max_du > 0.0 ? opt.max_du : max_du_for_tolerance(curve, opt.chord_tolerance, vmax);
     const planar_triangulation t = detail::band::parameter_triangulation(band_polys, L, curve.closed(), du, vmax);
     triangle_mesh m = extrude(t, opt.thickness);

@@ -34,13 +34,33 @@
 /// Errors (invalid_input, naming the problem): a non-finite coordinate or option, fewer than 2
 /// distinct points (3 when closed), a polyline turning back on itself by 180 degrees, a closed
 /// curve with a twist that is not a multiple of 360 degrees, and in check_band a half-height >=
-/// the smallest radius of curvature. (Self-contact of a band in space is not checked.)
+/// the smallest radius of curvature.
+///
+/// Self-contact. check_band rules out a fold (neighbouring cross-sections crossing);
+/// find_self_contact() looks for the other way a band fails, two distant parts of it meeting (a
+/// helix whose turns are closer than the band is high, a curve that crosses itself). The band's
+/// solid is swept by the rectangles R(u) = {C(u) + v n + w b : |v| <= h, 0 <= w <= thickness};
+/// the boundaries of R(u) are sampled every s (s = min(h, thickness) / 8) at sections every s
+/// along the curve, and two samples closer than c = 2.5 s (or the clearance asked for, if larger)
+/// from sections more than W = pi (h + thickness) + c apart along the curve are a contact. Every
+/// point of the swept boundary lies within 1.12 s of a sample (a section's stretch across the band
+/// is below 2 when h is below the radius of curvature), so surfaces that cross are always found;
+/// the price is that parts passing within c of each other count as touching (at the scale of a
+/// print's smallest gap). Sections within W of each other are neighbours, whose overlap is
+/// check_band's business. Cost: the centre line is sampled first, and only sections that can reach
+/// a distant one (centre lines within 2 sqrt(h^2 + thickness^2) + c + a coarse step) are sampled
+/// finely, at most 4 M samples (beyond that s grows, and c with it). (A piece of the band wholly
+/// inside a distant one, which needs 2 h < thickness, is not looked for.)
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "fabsynth/core/error.hpp"
@@ -58,6 +78,14 @@ struct space_curve_options {
 /// The frame at a point of a space curve (unit, right-handed: b = t x n).
 struct curve_frame {
     vec3 t{1, 0, 0}, n{0, 1, 0}, b{0, 0, 1};
+};
+
+/// Two distant cross-sections of a band that meet (space_curve::find_self_contact).
+struct band_self_contact {
+    double u1 = 0.0, u2 = 0.0;  ///< their arc lengths along the curve (mm), u1 < u2
+    double distance = 0.0;      ///< the distance between the two nearest samples found (mm)
+    double clearance = 0.0;     ///< the distance below which samples count as touching (mm)
+    vec3 at{0.0};               ///< the midpoint of those samples (mm)
 };
 
 /// A polyline in space with arc-length parametrisation and rotation-minimising frames (see the
@@ -187,6 +215,125 @@ public:
             throw invalid_input("space curve band: half-height " + std::to_string(half_height) +
                                 " is not below the curve's smallest radius of curvature " + std::to_string(r) + " (at arc length " +
                                 std::to_string(where) + "); the band map would fold");
+    }
+
+    /// The first contact (smallest u1, then u2) between distant parts of the band |v| <= half_height,
+    /// 0 <= w <= thickness around this curve (mm; see "Self-contact" in the file comment), or none.
+    /// `clearance` (mm, >= 0): parts closer than this count as touching too. Throws invalid_input
+    /// for a non-finite or negative half-height or clearance, or a non-positive thickness.
+    [[nodiscard]] std::optional<band_self_contact> find_self_contact(double half_height, double thickness, double clearance = 0.0) const {
+        if (!(half_height >= 0.0) || !std::isfinite(half_height)) throw invalid_input("space curve band: half-height must be finite and >= 0");
+        if (!(thickness > 0.0) || !std::isfinite(thickness)) throw invalid_input("space curve band: thickness must be finite and > 0");
+        if (!(clearance >= 0.0) || !std::isfinite(clearance)) throw invalid_input("space curve band: clearance must be finite and >= 0");
+        const double h = half_height, t = thickness, L = length_;
+        double s = (h > 0.0 ? std::min(h, t) : t) / 8.0;
+        const double reach = std::sqrt(h * h + t * t);  // from C(u) to the farthest point of R(u)
+        const auto per_section = [&](double step) { return 2.0 * (std::ceil(2.0 * h / step) + std::ceil(t / step) + 2.0); };
+        const auto arc_gap = [&](double a, double b) {
+            const double d = std::abs(a - b);
+            return closed_ ? std::min(d, L - d) : d;
+        };
+        // 1. candidate sections: centre-line samples every dc; a pair more than W - dc apart along
+        //    the curve and within 2 reach + c + dc in space marks both neighbourhoods
+        const double dc = std::max(0.5 * reach, s);
+        const std::size_t nc = static_cast<std::size_t>(std::ceil(L / dc)) + 1;
+        if (nc > 50'000'000) throw invalid_input("space curve band: the curve is too long for the self-contact check");
+        std::vector<vec3> centre(nc);
+        std::vector<double> centre_u(nc);
+        for (std::size_t i = 0; i < nc; ++i) centre_u[i] = std::min(L, static_cast<double>(i) * dc), centre[i] = band_point(centre_u[i], 0.0);
+        // visit(i, j) for every pair of points in the same or neighbouring cells of a grid of `cell`
+        // whose arc lengths us[i], us[j] may be more than `apart` apart: the points sorted by cell,
+        // then each occupied cell against itself and its 13 neighbours that come after it (every
+        // neighbouring pair of cells once), skipping pairs of cells whose arc-length ranges are
+        // within `apart` of each other (most pairs: a cell holds the samples of nearby sections)
+        const auto grid_pairs = [](const std::vector<vec3>& pts, const std::vector<double>& us, double cell, double apart, auto&& visit) {
+            using key3 = std::tuple<std::int64_t, std::int64_t, std::int64_t>;
+            std::vector<std::pair<key3, std::size_t>> order(pts.size());
+            for (std::size_t i = 0; i < pts.size(); ++i)
+                order[i] = {key3{static_cast<std::int64_t>(std::floor(pts[i].x / cell)), static_cast<std::int64_t>(std::floor(pts[i].y / cell)),
+                                 static_cast<std::int64_t>(std::floor(pts[i].z / cell))},
+                            i};
+            std::sort(order.begin(), order.end());
+            struct occupied {
+                key3 key;
+                std::size_t first;  // into order (the next cell's first ends it)
+                double u0, u1;      // the range of its arc lengths
+            };
+            std::vector<occupied> cells;
+            for (std::size_t i = 0; i < order.size(); ++i) {
+                const double u = us[order[i].second];
+                if (i == 0 || order[i].first != order[i - 1].first) cells.push_back({order[i].first, i, u, u});
+                cells.back().u0 = std::min(cells.back().u0, u), cells.back().u1 = std::max(cells.back().u1, u);
+            }
+            const std::size_t nc = cells.size();
+            cells.push_back({key3{}, order.size(), 0.0, 0.0});
+            for (std::size_t ca = 0; ca < nc; ++ca) {
+                const auto [ax, ay, az] = cells[ca].key;
+                for (std::int64_t dz = -1; dz <= 1; ++dz)
+                    for (std::int64_t dy = -1; dy <= 1; ++dy)
+                        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                            const key3 kb{ax + dx, ay + dy, az + dz};
+                            if (kb < cells[ca].key) continue;  // that pair of cells is visited from the other one
+                            const auto it = std::lower_bound(cells.begin(), cells.begin() + static_cast<std::ptrdiff_t>(nc), kb,
+                                                             [](const occupied& e, const key3& k) { return e.key < k; });
+                            if (it == cells.begin() + static_cast<std::ptrdiff_t>(nc) || it->key != kb) continue;
+                            const std::size_t cb = static_cast<std::size_t>(it - cells.begin());
+                            // every |u_i - u_j| (an upper bound of the arc gap) within `apart`: no distant pair here
+                            if (std::max(cells[ca].u1 - cells[cb].u0, cells[cb].u1 - cells[ca].u0) <= apart) continue;
+                            for (std::size_t i = cells[ca].first; i < cells[ca + 1].first; ++i)
+                                for (std::size_t j = cb == ca ? i + 1 : cells[cb].first; j < cells[cb + 1].first; ++j)
+                                    visit(std::min(order[i].second, order[j].second), std::max(order[i].second, order[j].second));
+                        }
+            }
+        };
+        double c = std::max(2.5 * s, clearance);
+        const double W = std::numbers::pi * (h + t) + c;
+        std::vector<char> marked(nc, 0);
+        const double near_c = 2.0 * reach + std::max(2.5 * s, clearance) + 2.0 * dc;
+        grid_pairs(centre, centre_u, near_c, W - 2.0 * dc, [&](std::size_t a, std::size_t b) {
+            if (arc_gap(centre_u[a], centre_u[b]) > W - 2.0 * dc && glm::distance(centre[a], centre[b]) <= near_c) marked[a] = marked[b] = 1;
+        });
+        // 2. the marked neighbourhoods (+- dc), sectioned every s (s grows if they would hold more than 4 M samples)
+        std::vector<std::pair<double, double>> spans;
+        for (std::size_t i = 0; i < nc; ++i)
+            if (marked[i]) {
+                const double a = std::max(0.0, (static_cast<double>(i) - 1.0) * dc), b = std::min(L, (static_cast<double>(i) + 1.0) * dc);
+                if (!spans.empty() && a <= spans.back().second) spans.back().second = b;
+                else spans.emplace_back(a, b);
+            }
+        if (spans.empty()) return std::nullopt;
+        double marked_length = 0.0;
+        for (const auto& [a, b] : spans) marked_length += b - a;
+        while ((marked_length / s + static_cast<double>(spans.size())) * per_section(s) > 4e6) s *= 1.25;
+        c = std::max(2.5 * s, clearance);
+        const double W_fine = std::numbers::pi * (h + t) + c;
+        std::vector<vec3> pts;
+        std::vector<double> at_u;
+        const int nv = static_cast<int>(std::ceil(2.0 * h / s)), nw = static_cast<int>(std::ceil(t / s));
+        for (const auto& [a, b] : spans) {
+            const int nu = std::max(1, static_cast<int>(std::ceil((b - a) / s)));
+            for (int k = 0; k <= nu; ++k) {
+                const double u = a + (b - a) * k / nu;
+                const auto add = [&](double v, double w) {
+                    pts.push_back(band_point(u, v, w));
+                    at_u.push_back(u);
+                };
+                for (int i = 0; i <= nv; ++i) {  // the faces w = 0 and w = t
+                    const double v = nv ? -h + 2.0 * h * i / nv : 0.0;
+                    add(v, 0.0), add(v, t);
+                }
+                for (int j = 1; j < nw; ++j) add(-h, t * j / nw), add(h, t * j / nw);  // the faces v = -h and v = h
+            }
+        }
+        std::optional<band_self_contact> best;
+        grid_pairs(pts, at_u, c, W_fine, [&](std::size_t i, std::size_t j) {
+            if (arc_gap(at_u[i], at_u[j]) <= W_fine) return;
+            const double d = glm::distance(pts[i], pts[j]);
+            if (!(d < c)) return;
+            const double u1 = std::min(at_u[i], at_u[j]), u2 = std::max(at_u[i], at_u[j]);
+            if (!best || std::tie(u1, u2, d) < std::tie(best->u1, best->u2, best->distance)) best = band_self_contact{u1, u2, d, c, 0.5 * (pts[i] + pts[j])};
+        });
+        return best;
     }
 
     /// Arc length wrapped to [0, L) on closed curves, clamped to [0, L] on open ones.

@@ -58,6 +58,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <span>
 #include <string>
 #include <string_view>
@@ -241,6 +242,24 @@ inline void require_separate_band_shapes(const band_solid& b, const pattern_opti
                         "try another seed, band height or component count");
 }
 
+/// Phase 3, before the synthesis along a curve in space: the band (|v| <= H/2, thickness along
+/// the binormal) must not meet itself far along the curve (space_curve::find_self_contact: a helix
+/// whose turns are closer than the band is high, a curve crossing itself); the extrusion would be
+/// a self-intersecting solid, watertight but not printable as meant.
+inline void require_band_clear_of_itself(const space_curve& curve, const pattern_options& opt) {
+    const auto c = curve.find_self_contact(0.5 * opt.band_height, opt.thickness);
+    if (!c) return;
+    const auto mm = [](double v) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.4g", v);
+        return std::string(b);
+    };
+    throw invalid_input("make_pattern: the band meets itself: its cross-sections at u = " + mm(c->u1) + " mm and u = " + mm(c->u2) +
+                        " mm along the curve come within " + mm(c->distance) + " mm of each other near (" + mm(c->at.x) + ", " + mm(c->at.y) + ", " +
+                        mm(c->at.z) + ") (band height " + mm(opt.band_height) + " mm, thickness " + mm(opt.thickness) + " mm; parts closer than " +
+                        mm(c->clearance) + " mm count as touching); lower the band height or the twist, or move those parts of the curve apart");
+}
+
 /// Phase 3, first half for a curve (planar_curve or space_curve): check that the band fits the curve
 /// (the exemplar itself, |v| <= H/2), then the synthesis along it. Along a curve in space (space and
 /// surface bands) the drawing is the developed band; a planar curve's is mapped in its second half.
@@ -378,6 +397,8 @@ template <progress_callback P = no_progress>
         ph::extrude_rectangle_band(options, b);
     } else if (const auto* s = std::get_if<along_space_curve>(&where)) {
         in_space = true;
+        s->curve.check_band(0.5 * options.band_height);
+        ph::require_band_clear_of_itself(s->curve, options);
         report_progress(progress, 0.05, "synthesis");
         ph::synthesize_curve_band(scaled_ex, s->curve, options, b, progress_span(progress, 0.05, 0.5));
         report_progress(progress, 0.5, "extrusion");

@@ -44,12 +44,17 @@
 /// ~1e-13 mm) is below m too. So contains() gives the bits of contains_uncached() at every point.
 ///
 /// The seed cache: a thread keeps the seeds of the coarse cells it visited (owner = the foam
-/// instance) in two open-addressing tables: raw cells (one coarse cell's seeds, ~1 per bin) and
+/// instance) in two open-addressing tables: raw cells (one coarse cell's seeds, one bin) and
 /// extended cells (the seeds within ~1.2 spacings of 2 x 2 x 2 coarse cells, ~2.5 per bin), each
-/// cell one allocation (header, bin offsets, seeds); past its byte budget a table drops cells in insertion
-/// order (a clock hand). When the extended cells thrash (the table full and over a quarter of the
-/// recent queries missing), only one miss in 32 builds a cell (a build reads 64 raw cells; one in 8
-/// was slower with a working set twice the cache); the others gather from raw cells.
+/// cell one allocation (header, bin offsets, seeds), found through slots that hold the key's hash
+/// (a probe reads no other cell); past its byte budget a table drops cells in insertion
+/// order (a clock hand), remembering the evicted keys (ghosts). When the extended cells thrash
+/// (the table full and over a quarter of the recent queries missing on a ghost: a cell the cache
+/// held and had to drop), only one miss in 32 builds a cell (a build reads 64 raw cells; one in 8
+/// was slower with a working set twice the cache); the others gather from raw cells. Misses on
+/// cells never held (a new foam on a cache full of an old one's cells, a new region) always
+/// build: counting them too made every cold pass after the first few foams run from raw cells,
+/// 0.87 against 1.23 M points/s (benchmarks/README.md).
 /// Its contents never change an answer (the seeds of a cell are a function of the foam and the
 /// cell, and every path gathers all the seeds Lemma 2 asks for).
 #include <algorithm>
@@ -100,9 +105,17 @@ struct seed_cell {
     }
     /// The bin index range [b0, b1] per axis of the bins meeting [a, b] (clamped to the grid).
     void bin_range(const vec3& a, const vec3& b, int b0[3], int b1[3]) const noexcept {
+        // clamped to [-1, g] first (a query box may reach far beyond the cell, or be not finite),
+        // then floored without the library call (std::floor is one on baseline x86-64)
+        const double top = static_cast<double>(g);
+        const auto bin = [&](double u) {
+            u = u >= -1.0 ? (u <= top ? u : top) : -1.0;  // NaN -> -1
+            const int i = static_cast<int>(u);
+            return std::clamp(i - (u < i), 0, g - 1);
+        };
         for (int i = 0; i < 3; ++i) {
-            b0[i] = std::clamp(static_cast<int>(std::floor((a[i] - lo[i]) * inv_bin)), 0, g - 1);
-            b1[i] = std::clamp(static_cast<int>(std::floor((b[i] - lo[i]) * inv_bin)), 0, g - 1);
+            b0[i] = bin((a[i] - lo[i]) * inv_bin);
+            b1[i] = bin((b[i] - lo[i]) * inv_bin);
         }
     }
     /// Calls f(seed) for the seeds of the bins [b0, b1].
@@ -160,9 +173,14 @@ using seed_cell_ptr = std::unique_ptr<seed_cell, seed_cell_free>;
     c->g = g, c->n = static_cast<std::uint32_t>(n), c->size = size;
     c->lo = lo, c->hi = hi;
     c->inv_bin = g / (hi.x - lo.x);
+    auto* st = const_cast<std::uint32_t*>(c->start());
+    if (g == 1) {  // a raw cell: the seeds as given
+        st[0] = 0, st[1] = static_cast<std::uint32_t>(n);
+        std::uninitialized_copy(raw, raw + n, const_cast<vec3*>(c->seeds()));
+        return c;
+    }
     thread_local std::vector<std::uint32_t> bin_of;
     bin_of.resize(n);
-    auto* st = const_cast<std::uint32_t*>(c->start());
     std::fill(st, st + bins + 1, 0u);
     for (std::size_t i = 0; i < n; ++i) {
         int b[3];
@@ -181,15 +199,20 @@ using seed_cell_ptr = std::unique_ptr<seed_cell, seed_cell_free>;
 /// A thread's binned seed boxes keyed by (owner, coarse cell) (see the file comment).
 class seed_cell_cache {
 public:
+    /// The hash of a key (the table's probe start, and what a slot compares before it reads a cell).
+    [[nodiscard]] static std::uint64_t key_hash(std::uint64_t owner, const i64vec3& k) noexcept { return hash64(owner, k.x, k.y, k.z) | 1; }  // 0: empty slot
     /// The entry (owner, k) if held, else null.
     [[nodiscard]] const seed_cell* find(std::uint64_t owner, const i64vec3& k) noexcept {
         if (last_ && last_->owner == owner && last_->key == k) return last_;
         if (table_.empty()) return nullptr;
+        const std::uint64_t h = key_hash(owner, k);
         const std::size_t mask = table_.size() - 1;
-        for (std::size_t i = hash64(owner, k.x, k.y, k.z) & mask;; i = (i + 1) & mask) {
-            seed_cell* c = table_[i];
-            if (!c) return nullptr;
-            if (c->owner == owner && c->key == k) return last_ = c;
+        // a slot's hash is compared first: a probe reads no cell but the one it returns (a cell
+        // header read on a wrong slot is a cache miss; a full 64-bit match is checked on the cell)
+        for (std::size_t i = h & mask;; i = (i + 1) & mask) {
+            const slot& sl = table_[i];
+            if (!sl.cell) return nullptr;
+            if (sl.hash == h && sl.cell->owner == owner && sl.cell->key == k) return last_ = sl.cell;
         }
     }
     /// Whether a new entry of `need` bytes would evict one (budget: bytes to keep).
@@ -211,48 +234,70 @@ public:
     }
     [[nodiscard]] std::size_t bytes() const noexcept { return bytes_; }
     [[nodiscard]] std::size_t size() const noexcept { return cells_.size(); }
+    /// Whether (owner, k) was evicted lately (a "ghost": its key's hash is remembered in a
+    /// direct-mapped table of ~8 slots per cell held, so a later eviction may overwrite it).
+    /// A miss on a ghost is a re-reference the cache could not keep, the sign of a working set
+    /// larger than the budget; a miss on a key never held (a new foam, a new region) is not.
+    [[nodiscard]] bool evicted_lately(std::uint64_t owner, const i64vec3& k) const noexcept {
+        if (ghosts_.empty()) return false;
+        const std::uint64_t h = key_hash(owner, k);
+        return ghosts_[h & (ghosts_.size() - 1)] == h;
+    }
 
 private:
+    struct slot {
+        std::uint64_t hash = 0;
+        seed_cell* cell = nullptr;  // null: empty
+    };
     void insert(seed_cell* c) noexcept {
+        const std::uint64_t h = key_hash(c->owner, c->key);
         const std::size_t mask = table_.size() - 1;
-        std::size_t i = hash64(c->owner, c->key.x, c->key.y, c->key.z) & mask;
-        while (table_[i]) i = (i + 1) & mask;
-        table_[i] = c;
+        std::size_t i = h & mask;
+        while (table_[i].cell) i = (i + 1) & mask;
+        table_[i] = {h, c};
     }
     void reindex() {
         std::size_t n = 64;
         while (n < 4 * cells_.size()) n *= 2;
-        table_.assign(n, nullptr);
+        table_.assign(n, slot{});
         for (const auto& c : cells_) insert(c.get());
+        // ~8 slots per cell held: an evicted key survives the next ~8x-cells evictions with
+        // probability ~e^-1, so a working set several times the cache is seen (at 2 slots per cell,
+        // a working set 4x the cache showed 22% of its misses as ghosts and was not seen)
+        ghosts_.resize(2 * n, 0);  // grows with the cells held (old ghosts keep their slots or are lost: a hint only)
     }
-    // Removes c from the table (backward-shift deletion keeps every probe chain unbroken).
-    void erase(const seed_cell* c) noexcept {
+    // Removes c (of hash h) from the table (backward-shift deletion keeps every probe chain unbroken).
+    void erase(const seed_cell* c, std::uint64_t h) noexcept {
         const std::size_t mask = table_.size() - 1;
-        std::size_t i = hash64(c->owner, c->key.x, c->key.y, c->key.z) & mask;
-        while (table_[i] != c) i = (i + 1) & mask;
-        for (std::size_t j = (i + 1) & mask; table_[j]; j = (j + 1) & mask) {
-            const std::size_t home = hash64(table_[j]->owner, table_[j]->key.x, table_[j]->key.y, table_[j]->key.z) & mask;
+        std::size_t i = h & mask;
+        while (table_[i].cell != c) i = (i + 1) & mask;
+        for (std::size_t j = (i + 1) & mask; table_[j].cell; j = (j + 1) & mask) {
+            const std::size_t home = table_[j].hash & mask;
             // table_[j] may move to the hole i unless its home lies cyclically in (i, j]
             if (((j - home) & mask) >= ((j - i) & mask)) {
                 table_[i] = table_[j];
                 i = j;
             }
         }
-        table_[i] = nullptr;
+        table_[i] = slot{};
     }
-    // Drops the cell at the clock hand (a cell of the older insertions).
+    // Drops the cell at the clock hand (a cell of the older insertions), remembering its key as a ghost.
     void evict_one() {
         if (hand_ >= cells_.size()) hand_ = 0;
-        if (last_ == cells_[hand_].get()) last_ = nullptr;
-        bytes_ -= cells_[hand_]->bytes();
-        erase(cells_[hand_].get());
+        const seed_cell* c = cells_[hand_].get();
+        if (last_ == c) last_ = nullptr;
+        bytes_ -= c->bytes();
+        const std::uint64_t h = key_hash(c->owner, c->key);
+        ghosts_[h & (ghosts_.size() - 1)] = h;
+        erase(c, h);
         std::swap(cells_[hand_], cells_.back());
         cells_.pop_back();
         ++hand_;
     }
 
     std::vector<seed_cell_ptr> cells_;
-    std::vector<seed_cell*> table_;  // open addressing, linear probing; null = empty
+    std::vector<slot> table_;  // open addressing, linear probing
+    std::vector<std::uint64_t> ghosts_;  // hashes of evicted keys, direct-mapped; 0 = none
     seed_cell* last_ = nullptr;
     std::size_t bytes_ = 0, hand_ = 0;
 };
@@ -261,8 +306,9 @@ private:
 struct near_seeds {
     seed_cell_cache raw;  ///< the seeds of single coarse cells
     seed_cell_cache ext;  ///< the seeds of a coarse cell grown by a margin (extended cells)
-    std::vector<vec3> S;     // gathered seeds
-    std::vector<double> d2;  // their squared distances to q
+    std::vector<vec3> S;     // gathered seeds (the first n; the vectors only grow, so a query
+    std::vector<double> d2;  // does not zero-fill them) and their squared distances to q
+    std::size_t n = 0;
     std::vector<int> cand;   // indices into S: s_1 first, then the candidates C
     std::vector<vec3> tmp;
     // extended-cell misses while that cache thrashes (see extended_cell)
@@ -271,7 +317,7 @@ struct near_seeds {
     std::size_t typical_ext = 0;  // bytes of the latest extended cell built
 };
 
-/// The seeds of coarse cell k, binned ~1 per bin. Budget: bytes of raw cells to keep.
+/// The seeds of coarse cell k (in one bin). Budget: bytes of raw cells to keep.
 template <class Seeds>
 const seed_cell& raw_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& k, std::size_t budget, near_seeds& ns) {
     return ns.raw.get(owner, k, budget, [&] {
@@ -279,8 +325,10 @@ const seed_cell& raw_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& 
         ns.tmp.clear();
         gen.cell_seeds(k, ns.tmp);
         const vec3 lo = vec3(static_cast<double>(k.x), static_cast<double>(k.y), static_cast<double>(k.z)) * L;
-        const int g = std::clamp(static_cast<int>(std::lround(std::cbrt(static_cast<double>(ns.tmp.size())))), 1, 32);
-        return bin_seeds(lo, lo + vec3(L), g, ns.tmp.data(), ns.tmp.size());
+        // one bin: a raw cell is read whole (by extended-cell builds, and by gather_near, where
+        // a run of ~25 seeds was faster than rows of bins of ~1 seed: 0.84 -> 1.02 M points/s
+        // with a working set twice the cache, and ~3% faster cold; benchmarks/README.md)
+        return bin_seeds(lo, lo + vec3(L), 1, ns.tmp.data(), ns.tmp.size());
     });
 }
 
@@ -307,30 +355,30 @@ seed_cell_ptr make_extended_cell(const Seeds& gen, std::uint64_t owner, const i6
     const double L = gen.options().cell;
     constexpr std::int64_t E = extended_span;
     const i64vec3 k0{E * e.x, E * e.y, E * e.z};
+    thread_local std::vector<vec3> in;
+    in.clear();
+    // the E^3 core cells first (all their seeds; their counts set the margin), then the ring of
+    // 4^3 - E^3 cells around them (the seeds within the margin)
     double spacing[64], widest = 0;
-    for (std::int64_t z = 0; z < E; ++z)
-        for (std::int64_t y = 0; y < E; ++y)
-            for (std::int64_t x = 0; x < E; ++x) {
-                const i64vec3 k{k0.x + x, k0.y + y, k0.z + z};
-                const std::size_t own = raw_cell(gen, owner, k, raw_budget, ns).n;
+    for (std::int64_t z = k0.z; z < k0.z + E; ++z)
+        for (std::int64_t y = k0.y; y < k0.y + E; ++y)
+            for (std::int64_t x = k0.x; x < k0.x + E; ++x) {
+                const i64vec3 k{x, y, z};
+                const seed_cell& c = raw_cell(gen, owner, k, raw_budget, ns);
+                in.insert(in.end(), c.seeds(), c.seeds() + c.n);
                 double& sp = spacing[extended_index(k)];
-                sp = L / std::cbrt(static_cast<double>(std::max<std::size_t>(1, own)));
+                sp = L / std::cbrt(static_cast<double>(std::max<std::uint32_t>(1, c.n)));
                 widest = std::max(widest, sp);
             }
     const double M = std::min(L, 1.2 * widest + 2 * R);
     const vec3 clo = vec3(static_cast<double>(k0.x), static_cast<double>(k0.y), static_cast<double>(k0.z)) * L;
     const vec3 lo = clo - vec3(M), hi = clo + vec3(static_cast<double>(E) * L + M);
-    thread_local std::vector<vec3> in;
-    in.clear();
     for (std::int64_t z = k0.z - 1; z <= k0.z + E; ++z)
         for (std::int64_t y = k0.y - 1; y <= k0.y + E; ++y)
             for (std::int64_t x = k0.x - 1; x <= k0.x + E; ++x) {
+                if (x >= k0.x && x < k0.x + E && y >= k0.y && y < k0.y + E && z >= k0.z && z < k0.z + E) continue;
                 const seed_cell& c = raw_cell(gen, owner, {x, y, z}, raw_budget, ns);
                 const vec3* sd = c.seeds();
-                if (x >= k0.x && x < k0.x + E && y >= k0.y && y < k0.y + E && z >= k0.z && z < k0.z + E) {
-                    in.insert(in.end(), sd, sd + c.n);
-                    continue;
-                }
                 // written always, kept when inside (no branch per seed)
                 std::size_t at = in.size();
                 in.resize(at + c.n);
@@ -350,15 +398,16 @@ seed_cell_ptr make_extended_cell(const Seeds& gen, std::uint64_t owner, const i6
 }
 
 /// The extended cell of coarse cell k (extended_key) from the cache, built when not held; null when
-/// the cache thrashes (full, and more than a quarter of the recent queries missed): then only one
+/// the cache thrashes (full, and more than a quarter of the recent queries missed a cell it had
+/// evicted): then only one
 /// miss in 32 builds a cell and the others are answered from raw cells (cheaper than a build that
 /// would be evicted before it is used again). Budgets: bytes of extended and raw cells to keep.
 template <class Seeds>
 const seed_cell* extended_cell(const Seeds& gen, std::uint64_t owner, const i64vec3& k, double R, std::size_t budget, std::size_t raw_budget, near_seeds& ns) {
-    ns.recent -= ns.recent >> 6;  // misses per query, x 2^16, averaged over ~64 queries
+    ns.recent -= ns.recent >> 6;  // misses on evicted cells per query, x 2^16, averaged over ~64 queries
     const i64vec3 e = extended_key(k);
     if (const seed_cell* c = ns.ext.find(owner, e)) return c;
-    ns.recent += 1024;
+    if (ns.ext.evicted_lately(owner, e)) ns.recent += 1024;
     if (ns.ext.full(ns.typical_ext, budget) && ns.recent > (1024 << 6) / 4 && ++ns.full_misses % 32 != 0) return nullptr;
     const seed_cell& c = ns.ext.get(owner, e, budget, [&] { return make_extended_cell(gen, owner, e, R, raw_budget, ns); });
     ns.typical_ext = c.bytes();
@@ -397,18 +446,19 @@ enum class near_answer { empty, solid, undecided };
 
 /// The certified test of the file comment for the point q of radius t (0 < t <= R <= cell, R the
 /// foam's maximum radius). Budgets: bytes of extended and raw cells to keep.
+/// kq: the coarse cell of q (coarse_cell_of).
 template <class Seeds>
-near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint64_t owner, double R, std::size_t budget, std::size_t raw_budget, near_seeds& ws) {
+near_answer near_seed_test(const vec3& q, const i64vec3& kq, double t, const Seeds& gen, std::uint64_t owner, double R, std::size_t budget, std::size_t raw_budget,
+                           near_seeds& ws) {
     const double L = gen.options().cell;
     const double scale = 1 + std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
     const auto margin = [&](double d) { return 1e-9 * (scale + d); };
-    ws.S.clear(), ws.d2.clear();
+    ws.n = 0;
     double d1 = 0, m = 0, rho = 0;
     // 1. S: usually from q's extended cell alone: the seeds within h of q, h first the cell's
     //    guess (+ 2 t and margins); when the nearest of them, d_1, leaves rho = d_1 + 2 t + 2 m
     //    within h, they hold all of S (Lemma 2's S); else h grows to rho (or doubles if none).
     //    The ball q +- h must lie inside the cell's box.
-    const i64vec3 kq = coarse_cell_of(q, L);
     if (const seed_cell* E = extended_cell(gen, owner, kq, R, budget, raw_budget, ws)) {
         const double slack = 1e-9 * scale;
         const double guess = E->guess[extended_index(kq)];
@@ -431,7 +481,7 @@ near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint6
                     const std::size_t row = static_cast<std::size_t>((bz * g + by) * g);
                     most += st[row + static_cast<std::size_t>(b1[0]) + 1] - st[row + static_cast<std::size_t>(b0[0])];
                 }
-            ws.S.resize(most), ws.d2.resize(most);
+            if (ws.S.size() < most) ws.S.resize(most), ws.d2.resize(most);
             std::size_t kept = 0;
             double best = std::numeric_limits<double>::infinity();
             E->for_bins(b0, b1, [&](const vec3& s) {
@@ -441,7 +491,7 @@ near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint6
                 kept += e2 <= h2;
                 best = std::min(best, e2);
             });
-            ws.S.resize(kept), ws.d2.resize(kept);
+            ws.n = kept;
             if (best <= h2) {
                 d1 = std::sqrt(best);
                 m = margin(d1);
@@ -455,17 +505,18 @@ near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint6
                 h *= 2;
             }
         }
-        if (!done) ws.S.clear(), ws.d2.clear();
+        if (!done) ws.n = 0;
     }
     // 1'. otherwise from the raw cells: a cube q +- h holding a seed within h (so the nearest seed
     //    is inside it); the first h is about the seed spacing, doubled until then (every coarse
     //    cell holds a seed, so one is within sqrt(3) L).
-    if (ws.S.empty()) {
+    if (ws.n == 0) {
         const std::size_t own = raw_cell(gen, owner, coarse_cell_of(q, L), raw_budget, ws).n;
         double h = 0.7 * L / std::cbrt(static_cast<double>(std::max<std::size_t>(1, own))) + 2 * t;
         for (int pass = 0;; ++pass) {
             ws.S.clear(), ws.d2.clear();
             const double best2 = gather_near(q, h, gen, owner, raw_budget, ws);
+            ws.n = ws.S.size();
             if (best2 <= h * h) {
                 d1 = std::sqrt(best2);
                 m = margin(d1);
@@ -479,7 +530,7 @@ near_answer near_seed_test(const vec3& q, double t, const Seeds& gen, std::uint6
         }
     }
     // 2. s_1 and the candidates C (delta_j <= t + m), from the seeds within rho.
-    const std::size_t n = ws.S.size();
+    const std::size_t n = ws.n;
     std::size_t i1 = 0;
     for (std::size_t i = 1; i < n; ++i)
         if (ws.d2[i] < ws.d2[i1]) i1 = i;

@@ -273,6 +273,11 @@ public:
     /// `scattered` > `repeat` (callers whose misses are cheap): the window always applies, and a
     /// block missed `scattered` times in all is built too (building then costs about what its
     /// misses did).
+    /// Starts loading the tally of (owner, k) that worth_building() will read (a random line of
+    /// a 384 KB table: a cache miss that other work can hide).
+    void prefetch_tally(std::uint64_t owner, const i64vec3& k) const noexcept {
+        if (!tally_.empty()) __builtin_prefetch(&tally_[hash64(owner, k.x, k.y, k.z) & 16383]);
+    }
     [[nodiscard]] bool worth_building(std::uint64_t owner, const i64vec3& k, std::size_t budget, std::size_t typical, int repeat, int scattered) {
         ++misses_;
         const bool full = bytes_ + typical > budget && !blocks_.empty() && clock_ - blocks_[oldest()]->last_use < (std::uint64_t(1) << 18);
