@@ -292,7 +292,8 @@ public:
         if (!(half_height < r))
             throw invalid_input("curve band: half-height " + std::to_string(half_height) +
                                 " is not below the curve's smallest radius of curvature " + std::to_string(r) +
-                                " (at arc length " + std::to_string(where) + "); the band map would fold");
+                                " (at arc length " + std::to_string(where) + "); the band map would fold: lower the band height below " +
+                                std::to_string(2 * r) + " or smooth the curve there");
         if (is_circle_) return;
         const std::size_t n = points_.size();
         std::vector<vec2> plus(n), minus(n);

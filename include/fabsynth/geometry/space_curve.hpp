@@ -214,7 +214,8 @@ public:
         if (!(half_height < r))
             throw invalid_input("space curve band: half-height " + std::to_string(half_height) +
                                 " is not below the curve's smallest radius of curvature " + std::to_string(r) + " (at arc length " +
-                                std::to_string(where) + "); the band map would fold");
+                                std::to_string(where) + "); the band map would fold: lower the band height below " + std::to_string(2 * r) +
+                                ", or smooth the curve or lower the twist there");
     }
 
     /// The first contact (smallest u1, then u2) between distant parts of the band |v| <= half_height,
