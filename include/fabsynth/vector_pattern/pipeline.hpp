@@ -370,7 +370,7 @@ inline void check_options(const pattern_options& opt) {
 /// @param[in] progress  called as progress(fraction in [0, 1], stage) between the phases and at
 ///                      every DP layer; returning false throws fabsynth::cancelled at that point
 /// Throws invalid_input for a request that cannot be built (a band that does not fit its curve,
-/// bad options, a surface that is neither a disk nor a closed genus-0 mesh, an exemplar or a
+/// a band along a space curve whose distant parts meet, checked before the synthesis, bad options, a surface that is neither a disk nor a closed genus-0 mesh, an exemplar or a
 /// synthesized pattern whose shapes touch or cross, for the extruded forms), no_solution when no
 /// piece sequence meets the topology, solver_error for a result that fails its checks (a bug).
 template <progress_callback P = no_progress>
