@@ -290,7 +290,7 @@ public:
         double c = std::max(2.5 * s, clearance);
         const double W = std::numbers::pi * (h + t) + c;
         std::vector<char> marked(nc, 0);
-        const double near_c = 2.0 * reach + std::max(2.5 * s, clearance) + 2.0 * dc;
+        const double near_c = 2.0 * reach + c + 2.0 * dc;
         grid_pairs(centre, centre_u, near_c, W - 2.0 * dc, [&](std::size_t a, std::size_t b) {
             if (arc_gap(centre_u[a], centre_u[b]) > W - 2.0 * dc && glm::distance(centre[a], centre[b]) <= near_c) marked[a] = marked[b] = 1;
         });
