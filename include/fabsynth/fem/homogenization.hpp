@@ -201,7 +201,8 @@ homogenization_result homogenize(const G& grid, const isotropic_material& materi
 
     report_progress(progress, 0.0, "homogenization setup");
     const detail::voxel_element el(h, material);
-    detail::voxel_engine eng(cells, true, std::move(scale), el, std::move(state), levels, opt.solver);
+    detail::voxel_engine eng(cells, true, scale, el, state, levels, opt.solver);
+    scale = {}, state = {};
     const detail::voxel_operator& op = eng.op();
 
     // Element loads of the unit strains, per local node: f_i,a = K[rows a] u0_i.
@@ -211,12 +212,10 @@ homogenization_result homogenize(const G& grid, const isotropic_material& materi
     std::array<std::vector<double>, 6> chi;
     const double tol_log = std::log(opt.solver.tolerance);
     for (int i = 0; i < 6; ++i) {
-        std::vector<double> f(3 * op.nodes.count(), 0.0);
-        parallel_for(0, op.nodes.count(), [&](std::size_t n) {
+        std::vector<double> f(3 * op.active.count(), 0.0);
+        parallel_for(0, op.active.count(), [&](std::size_t n) {
             Eigen::Vector3d acc = Eigen::Vector3d::Zero();
-            op.for_each_voxel_at_node(op.nodes.coords(n), [&](int a, ivec3, std::size_t e) {
-                acc += op.scale[e] * fe[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)];
-            });
+            op.for_each_voxel_at_node(n, [&](int a, std::size_t v) { acc += op.scale[v] * fe[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)]; });
             for (int d = 0; d < 3; ++d) f[3 * n + static_cast<std::size_t>(d)] = acc(d);
         }, {.grain = 1024});
         res.stats[static_cast<std::size_t>(i)] = eng.solve(std::move(f), chi[static_cast<std::size_t>(i)], [&](int, double rel) {
@@ -225,19 +224,18 @@ homogenization_result homogenize(const G& grid, const isotropic_material& materi
         });
     }
 
-    // Energy form, reduced over voxels in fixed blocks (deterministic).
+    // Energy form, reduced over the solid voxels in fixed blocks (deterministic).
     const matrix6 sum = parallel_reduce(
         0, op.scale.size(), matrix6(matrix6::Zero()),
-        [&](std::size_t e) -> matrix6 {
-            if (op.scale[e] == 0.0) return matrix6::Zero();
-            const auto vn = op.voxel_nodes(op.nodes.coords(e));  // periodic: voxel and node grids coincide
+        [&](std::size_t v) -> matrix6 {
+            const auto& vn = op.corners[v];
             Eigen::Matrix<double, 24, 6> W;
             for (int i = 0; i < 6; ++i)
                 for (int b = 0; b < 8; ++b)
                     for (int d = 0; d < 3; ++d)
                         W(3 * b + d, i) = el.strain_field[static_cast<std::size_t>(i)](3 * b + d) -
-                                          chi[static_cast<std::size_t>(i)][3 * vn[static_cast<std::size_t>(b)] + static_cast<std::size_t>(d)];
-            return op.scale[e] * (W.transpose() * el.K * W);
+                                          chi[static_cast<std::size_t>(i)][3 * static_cast<std::size_t>(vn[static_cast<std::size_t>(b)]) + static_cast<std::size_t>(d)];
+            return op.scale[v] * (W.transpose() * el.K * W);
         },
         [](matrix6 x, const matrix6& y) { return matrix6(x + y); }, {.grain = 2048});
     const double volume = cells.x * h.x * cells.y * h.y * cells.z * h.z;

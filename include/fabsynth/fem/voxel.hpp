@@ -250,23 +250,11 @@ inline int choose_levels(const ivec3& cells, bool periodic, std::size_t coarsest
 /// Ready-to-solve voxel stiffness system (fine operator + preconditioner).
 class voxel_engine {
 public:
-    voxel_engine(const ivec3& cells, bool periodic, std::vector<double> scale, const voxel_element& el,
-                 std::vector<std::uint8_t> state, int levels, const voxel_solver_options& opt)
-        : opt_(opt) {
-        const auto t0 = std::chrono::steady_clock::now();
-        op_.cells = cells;
-        op_.nodes.periodic = periodic;
-        op_.nodes.n = periodic ? cells : cells + 1;
-        op_.scale = std::move(scale);
-        op_.element = &el;
-        op_.state = std::move(state);
-        // Nodes without a solid voxel carry no stiffness: inactive.
-        parallel_for(0, op_.nodes.count(), [&](std::size_t n) {
-            bool solid = false;
-            op_.for_each_voxel_at_node(op_.nodes.coords(n), [&](int, ivec3, std::size_t) { solid = true; });
-            if (!solid)
-                for (int d = 0; d < 3; ++d) op_.state[3 * n + static_cast<std::size_t>(d)] = dof_inactive;
-        }, {.grain = 1024});
+    /// cells: voxel counts; scale: per box voxel (0 = void); state: per box DOF (3 per node of the
+    /// box: cells + 1 per axis, or cells when periodic), free or fixed.
+    voxel_engine(const ivec3& cells, bool periodic, const std::vector<double>& scale, const voxel_element& el,
+                 const std::vector<std::uint8_t>& state, int levels, const voxel_solver_options& opt)
+        : opt_(opt), op_(make_voxel_operator(cells, periodic, scale, el, state)) {
         dofs_ = static_cast<std::size_t>(std::count(op_.state.begin(), op_.state.end(), dof_free));
         // A grid that cannot coarsen (periodic with odd voxel counts) is solved directly when
         // small, else by Jacobi-CG.
@@ -284,13 +272,15 @@ public:
             inv_diag_.resize(diag.size());
             for (std::size_t i = 0; i < diag.size(); ++i) inv_diag_[i] = op_.state[i] == dof_free && diag[i] > 0 ? 1.0 / diag[i] : 1.0;
         }
-        setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        setup_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
     }
 
+    /// The fine operator: its active nodes (op().active) number the vectors of solve().
     [[nodiscard]] const voxel_operator& op() const noexcept { return op_; }
     [[nodiscard]] std::size_t free_dofs() const noexcept { return dofs_; }
 
-    /// Solves K x = b (b is zeroed on non-free DOFs first; x starts at 0). on_it(iteration, rel).
+    /// Solves K x = b on the active nodes (3 per op().active node; b is zeroed on non-free DOFs
+    /// first; x starts at 0). on_it(iteration, rel).
     template <class OnIt>
     voxel_solve_stats solve(std::vector<double> b, std::vector<double>& x, OnIt&& on_it) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -325,6 +315,7 @@ public:
     }
 
 private:
+    std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();  // first member: setup time includes op_
     voxel_solver_options opt_;
     voxel_operator op_;
     std::unique_ptr<voxel_multigrid> mg_;
@@ -392,15 +383,17 @@ voxel_solution solve_voxel_elasticity(const G& grid, const isotropic_material& m
 
     const detail::voxel_element el(grid.spacing(), material);
     report_progress(progress, 0.0, "voxel FEM setup");
-    detail::voxel_engine eng(padded, false, std::move(scale), el, std::move(state), levels, opt);
-    std::vector<double> f(3 * nodes.count(), 0.0), u;
-    for (std::size_t n = 0; n < bc.force.size(); ++n)
-        for (int d = 0; d < 3; ++d) {
-            const std::size_t dof = 3 * padded_node(n) + static_cast<std::size_t>(d);
-            f[dof] = bc.force[n][d];
-            if (f[dof] != 0.0 && eng.op().state[dof] == detail::dof_inactive)
-                throw invalid_input("solve_voxel_elasticity: a force acts on node " + std::to_string(n) + ", which touches no solid voxel");
-        }
+    detail::voxel_engine eng(padded, false, scale, el, state, levels, opt);
+    scale = {}, state = {};
+    const detail::node_set& active = eng.op().active;
+    std::vector<double> f(3 * active.count(), 0.0), u;
+    for (std::size_t n = 0; n < bc.force.size(); ++n) {
+        if (bc.force[n] == vec3(0.0)) continue;
+        const std::int32_t a = active.index[padded_node(n)];
+        if (a < 0)
+            throw invalid_input("solve_voxel_elasticity: a force acts on node " + std::to_string(n) + ", which touches no solid voxel");
+        for (int d = 0; d < 3; ++d) f[3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(d)] = bc.force[n][d];
+    }
     const double tol_log = std::log(opt.tolerance);
     voxel_solution sol;
     sol.stats = eng.solve(f, u, [&](int, double rel) {
@@ -408,8 +401,10 @@ voxel_solution solve_voxel_elasticity(const G& grid, const isotropic_material& m
     });
     sol.displacement.assign(bc.force.size(), vec3(0.0));
     for (std::size_t n = 0; n < bc.force.size(); ++n) {
-        const std::size_t pn = padded_node(n);
-        sol.displacement[n] = vec3(u[3 * pn], u[3 * pn + 1], u[3 * pn + 2]);
+        const std::int32_t a = active.index[padded_node(n)];
+        if (a < 0) continue;
+        const auto i = 3 * static_cast<std::size_t>(a);
+        sol.displacement[n] = vec3(u[i], u[i + 1], u[i + 2]);
         sol.compliance += glm::dot(sol.displacement[n], bc.force[n]);
     }
     report_progress(progress, 1.0, "voxel FEM");

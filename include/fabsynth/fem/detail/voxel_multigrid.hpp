@@ -46,9 +46,8 @@ public:
         trip.reserve(static_cast<std::size_t>(m) * 81);
         double trace = 0;
         for (std::size_t n = 0; n < A.nodes.count(); ++n) {
-            const ivec3 p = A.nodes.coords(n);
             for (int slot = 0; slot < 27; ++slot) {
-                const std::int64_t q = A.nodes.at(p + ivec3(slot % 3 - 1, (slot / 3) % 3 - 1, slot / 9 - 1));
+                const std::int32_t q = A.nbr[27 * n + static_cast<std::size_t>(slot)];
                 if (q < 0) continue;
                 const double* B = A.block(n, slot);
                 for (int r = 0; r < 3; ++r)
@@ -100,7 +99,6 @@ struct multigrid_settings {
 class voxel_multigrid {
 public:
     struct level {
-        node_grid nodes;
         grid_transfer down;    // to the next coarser level
         stencil_operator op;   // unused on level 0 (matrix-free)
         std::vector<std::uint8_t> state;
@@ -114,14 +112,14 @@ public:
     /// for non-periodic grids, divisible by 2^(levels-1); periodic stencil levels may be odd.
     voxel_multigrid(const voxel_operator& fine, int levels, const multigrid_settings& s) : fine_(&fine), settings_(s) {
         levels_.resize(static_cast<std::size_t>(levels));
-        level& L0 = levels_[0];
-        L0.nodes = fine.nodes;
-        L0.state = fine.state;
+        levels_[0].state = fine.state;
         if (levels == 1) {
             // Whole problem solved directly.
-            stencil_operator st = assemble_stencil(fine.cells, fine.nodes, [&](std::size_t e, int a, bool& any) {
-                any = fine.scale[e] != 0.0;
-                return Eigen::Matrix<double, 3, 24>(fine.scale[e] * fine.element->rows[static_cast<std::size_t>(a)]);
+            stencil_operator st = assemble_stencil(fine.cells, fine.active, [&](std::size_t e, int a, bool& any) {
+                const std::int32_t v = fine.voxel_index[e];
+                any = v >= 0;
+                const double sc = any ? fine.scale[static_cast<std::size_t>(v)] : 0.0;
+                return Eigen::Matrix<double, 3, 24>(sc * fine.element->rows[static_cast<std::size_t>(a)]);
             });
             st.state = fine.state;
             st.apply_mask();
@@ -132,34 +130,34 @@ public:
         for (std::size_t l = 1; l < levels_.size(); ++l) {
             level& C = levels_[l];
             const level& F = levels_[l - 1];
-            levels_[l - 1].down = grid_transfer(F.nodes);
-            C.nodes = levels_[l - 1].down.coarse;
+            const node_set& Fn = nodes(l - 1);
+            levels_[l - 1].down = grid_transfer(Fn.box);
+            node_set active = coarse_nodes(levels_[l - 1].down, Fn);
             const ivec3 ccells = cells / 2;  // only used for l == 1 (the fine grid has even voxel counts)
             if (l == 1) {
-                C.op = assemble_stencil(ccells, C.nodes, [&](std::size_t E, int a, bool& any) {
+                C.op = assemble_stencil(ccells, std::move(active), [&](std::size_t E, int a, bool& any) {
                     Eigen::Matrix<double, 3, 24> R = Eigen::Matrix<double, 3, 24>::Zero();
                     const ivec3 cE(static_cast<int>(E % static_cast<std::size_t>(ccells.x)),
                                    static_cast<int>((E / static_cast<std::size_t>(ccells.x)) % static_cast<std::size_t>(ccells.y)),
                                    static_cast<int>(E / (static_cast<std::size_t>(ccells.x) * static_cast<std::size_t>(ccells.y))));
                     for (int c = 0; c < 8; ++c) {
-                        const ivec3 f = 2 * cE + ivec3(voxel_corner[c][0], voxel_corner[c][1], voxel_corner[c][2]);
-                        const double s = fine.scale[static_cast<std::size_t>(f.x) +
-                                                    static_cast<std::size_t>(cells.x) * (static_cast<std::size_t>(f.y) + static_cast<std::size_t>(cells.y) * static_cast<std::size_t>(f.z))];
-                        if (s == 0.0) continue;
+                        const double sc = fine.scale_at(2 * cE + ivec3(voxel_corner[c][0], voxel_corner[c][1], voxel_corner[c][2]));
+                        if (sc == 0.0) continue;
                         any = true;
-                        R.noalias() += s * fine.element->child[static_cast<std::size_t>(c)].middleRows(3 * a, 3);
+                        R.noalias() += sc * fine.element->child[static_cast<std::size_t>(c)].middleRows(3 * a, 3);
                     }
                     return R;
                 });
             } else {
-                C.op = galerkin(levels_[l - 1].op, levels_[l - 1].down);
+                C.op = galerkin(levels_[l - 1].op, levels_[l - 1].down, std::move(active));
             }
             // A coarse DOF is user-fixed iff the fine DOF at the same place is.
-            for (std::size_t n = 0; n < C.nodes.count(); ++n) {
-                const ivec3 p = C.nodes.coords(n);
-                const std::size_t fn = F.nodes.index(2 * p.x, 2 * p.y, 2 * p.z);
+            for (std::size_t n = 0; n < C.op.nodes.count(); ++n) {
+                const std::int32_t fn = Fn.at(2 * C.op.nodes.pos[n]);
+                if (fn < 0) continue;
                 for (int d = 0; d < 3; ++d)
-                    if (F.state[3 * fn + static_cast<std::size_t>(d)] == dof_fixed) C.op.state[3 * n + static_cast<std::size_t>(d)] = dof_fixed;
+                    if (F.state[3 * static_cast<std::size_t>(fn) + static_cast<std::size_t>(d)] == dof_fixed)
+                        C.op.state[3 * n + static_cast<std::size_t>(d)] = dof_fixed;
             }
             C.op.apply_mask();
             C.state = C.op.state;
@@ -173,12 +171,15 @@ public:
             for (std::size_t i = 0; i < diag.size(); ++i) L.inv_diag[i] = L.state[i] == dof_free && diag[i] > 0 ? 1.0 / diag[i] : 1.0;
             L.lmax = estimate_lmax(l);
         }
-        for (auto& L : levels_) {
-            const std::size_t n = 3 * L.nodes.count();
+        for (std::size_t l = 0; l < levels_.size(); ++l) {
+            level& L = levels_[l];
+            const std::size_t n = 3 * nodes(l).count();
             L.b.assign(n, 0.0), L.x.assign(n, 0.0), L.r.assign(n, 0.0), L.d.assign(n, 0.0);
         }
     }
 
+    /// The active nodes of level l (level 0: the fine operator's).
+    [[nodiscard]] const node_set& nodes(std::size_t l) const noexcept { return l == 0 ? fine_->active : levels_[l].op.nodes; }
     [[nodiscard]] int num_levels() const noexcept { return static_cast<int>(levels_.size()); }
     [[nodiscard]] const std::vector<level>& levels() const noexcept { return levels_; }
     [[nodiscard]] int coarsest_dofs() const noexcept { return direct_.size(); }
@@ -205,7 +206,13 @@ private:
         level& L = levels_[l];
         const std::size_t n = L.inv_diag.size();
         std::vector<double> v(n), w(n);
-        for (std::size_t i = 0; i < n; ++i) v[i] = L.state[i] == dof_free ? hash_uniform(0x5eed, static_cast<std::uint64_t>(i)) - 0.5 : 0.0;
+        // the start vector is a function of the box DOF (3 box index + component), not of the
+        // compact numbering, so it does not depend on which nodes are active elsewhere
+        for (std::size_t i = 0; i < n; ++i) {
+            const ivec3 p = nodes(l).pos[i / 3];
+            const std::uint64_t box_dof = 3 * nodes(l).box.index(p.x, p.y, p.z) + i % 3;
+            v[i] = L.state[i] == dof_free ? hash_uniform(0x5eed, box_dof) - 0.5 : 0.0;
+        }
         double lambda = 1;
         for (int it = 0; it < 12; ++it) {
             const double nv = std::sqrt(dot(v, v));
@@ -246,10 +253,10 @@ private:
         apply(l, L.x, L.r);
         parallel_for(0, L.r.size(), [&](std::size_t i) { L.r[i] = L.state[i] == dof_free ? L.b[i] - L.r[i] : 0.0; }, {.grain = 16384});
         level& C = levels_[l + 1];
-        restrict_to(L.down, L.r, C.state, C.b);
+        restrict_to(L.down, nodes(l), nodes(l + 1), L.r, C.state, C.b);
         vcycle(l + 1);
         std::vector<double>& corr = scratch(l);
-        prolongate(L.down, C.x, L.state, corr);
+        prolongate(L.down, nodes(l), nodes(l + 1), C.x, L.state, corr);
         parallel_for(0, L.x.size(), [&](std::size_t i) { L.x[i] += corr[i]; }, {.grain = 16384});
         smooth(l, false);
     }
