@@ -75,7 +75,7 @@ void BM_voxel_cantilever(benchmark::State& state) {
     fem::voxel_solution sol;
     for (auto _ : state) {
         sol = fem::solve_voxel_elasticity(g, fem::isotropic_material::pla(), bc, opt);
-        benchmark::DoNotOptimize(sol.displacement.data());
+        benchmark::DoNotOptimize(sol.u.data());
     }
     state.counters["dofs"] = static_cast<double>(sol.stats.dofs);
     state.counters["iterations"] = sol.stats.iterations;
@@ -120,7 +120,7 @@ void BM_voxel_shell(benchmark::State& state) {
     fem::voxel_solution sol;
     for (auto _ : state) {
         sol = fem::solve_voxel_elasticity(g, fem::isotropic_material{2000.0, 0.35}, bc, opt);
-        benchmark::DoNotOptimize(sol.displacement.data());
+        benchmark::DoNotOptimize(sol.u.data());
     }
     state.counters["voxels"] = static_cast<double>(voxels);
     state.counters["dofs"] = static_cast<double>(sol.stats.dofs);

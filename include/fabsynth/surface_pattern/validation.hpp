@@ -74,9 +74,16 @@
 namespace fabsynth::surface_pattern {
 
 /// An upper estimate of the peak memory (bytes) of validating a solid on a grid of `resolution`
-/// voxels along its longest side: the FEM box is at most the (resolution + 1)^3 nodes of the whole
-/// grid, about 0.7 KB each (fem/voxel.hpp's operator, hierarchy and CG vectors).
-[[nodiscard]] inline double validation_bytes(int resolution) { return 700.0 * std::pow(static_cast<double>(resolution) + 1, 3); }
+/// voxels along its longest side. The sparse voxel FEM (fem/voxel.hpp) costs ~25 bytes per node of
+/// the box (at most (resolution + 1)^3) plus ~1.6 KB per solid voxel; the solid of a surface
+/// pattern is a shell, estimated here as 12 resolution^2 voxels (the bunny's full 1.2 mm shell at
+/// 256 is 644 k = 9.8 x 256^2 voxels): 60 B per box node and 20 KB x resolution^2 in all, with
+/// room for the surface pipeline's own grids (2.3 GB at 256, 13 GB at 512). Measured peaks:
+/// benchmarks/README.md.
+[[nodiscard]] inline double validation_bytes(int resolution) {
+    const double r = static_cast<double>(resolution);
+    return 60.0 * std::pow(r + 1, 3) + 20000.0 * r * r;
+}
 
 struct validation_options {
     /// Elastic material (E [MPa], nu). Default ABS (fem/material.hpp: Stratasys ABSplus-P430, E =
@@ -258,7 +265,7 @@ template <progress_callback P = no_progress>
         const fem::voxel_solver_options so{.tolerance = opt.tolerance, .max_iterations = opt.max_iterations};
         sol = fem::solve_voxel_elasticity(grid, opt.material, bc, so, {}, progress);
     } else {
-        sol.displacement.assign(bc.force.size(), vec3(0.0));
+        sol.cells = grid.size;  // no node: every displacement is 0
     }
     st.dofs = sol.stats.dofs;
     st.iterations = sol.stats.iterations;
@@ -281,7 +288,7 @@ template <progress_callback P = no_progress>
         fem::hex8::vector_t ue;
         for (int a = 0; a < 8; ++a) {
             const auto& c = fem::detail::voxel_corner[a];
-            const vec3& u = sol.displacement[fem::voxel_node_index(grid.size, p.x + c[0], p.y + c[1], p.z + c[2])];
+            const vec3 u = sol.displacement(p.x + c[0], p.y + c[1], p.z + c[2]);
             for (int k = 0; k < 3; ++k) ue(3 * a + k) = u[k];
         }
         out.score[i] = 1e6 * fem::principal_stress_score(S0 * ue);  // MPa -> Pa
