@@ -8,17 +8,16 @@
 #   OUT              output directory (default reproduce_surface_patterns): one folder per run
 #                    (pattern.stl, preview.png, report.json, ...), previews/ROW.png (320 px per view), tables.md
 #   RES              grid of Tables 1-2 (default 256, the paper's)
-#   VALIDATION_RES   grid of Table 3 (default 128: the voxel FEM of the stages does not fit the
-#                    paper's 256^3 in this machine's memory yet; see benchmarks/README.md)
+#   VALIDATION_RES   grid of Table 3 (default 256, the paper's)
 #
 # Table 1's exemplars are the paper's where one is bundled (keyboard, hooks, waves) and the closest
 # bundled stand-ins otherwise: greencells -> voronoi_cells (cells), animalskin -> spots (leopard
 # blobs), bluebrown -> giraffe (a wobbly network around patches). The skull row (512^3) has no
 # bundled mesh and is left out. On the 2-core machine Tables 1-2 take about 4 minutes; Table 3
-# about 35 minutes per exemplar, nearly all of it the six voxel-FEM solves (issue 35).
+# a few minutes per exemplar (six sparse voxel-FEM solves at 256^3, 20-60 s each).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=build/release out=reproduce_surface_patterns res=256 vres=128 table3=1
+build=build/release out=reproduce_surface_patterns res=256 vres=256 table3=1
 while [ $# -gt 0 ]; do
     case "$1" in
         -b) build=$2; shift 2 ;;

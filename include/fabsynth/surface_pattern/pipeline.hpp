@@ -88,7 +88,7 @@ struct pattern_options {
     structure_options structural{};
     int max_iterations = 30;     ///< bound on structural iterations (paper: 3-24 needed), >= 1
     bool stages = false;         ///< also the Table 3 stages (connectivity only; with the force profile)
-    bool validate = false;       ///< voxel FEM of every solid (§6.3); needs about 0.7 KB per node of the grid box
+    bool validate = false;       ///< voxel FEM of every solid (§6.3); memory: validation_bytes
     bool preview = true;         ///< render the preview picture
     int preview_size = 768;      ///< pixels of one view of the preview (the picture is two views wide)
     double max_memory_bytes = 16.0 * (1ull << 30);  ///< refuse shells (and validate = true runs: validation_bytes) estimated to need more, before any work

@@ -7,8 +7,9 @@
 ///
 /// Model (validate_stress_field / validate_stress):
 ///  - Elements: one hex8 per voxel of the set (fem/voxel.hpp: matrix-free, multigrid-preconditioned
-///    CG; no other solver). The FEM grid is the bounding box of the analysed voxels, so memory is
-///    about 0.7 KB per node of that box (fem/voxel.hpp), not of the whole synthesis grid.
+///    CG; no other solver). The FEM grid is the bounding box of the analysed voxels; the solver is
+///    sparse (~25 bytes per node of that box, ~1.6 KB per solid voxel: the full bunny shell at
+///    256^3 takes 1.3 GB and 26 s per load case, benchmarks/README.md).
 ///  - Supports: with d = gravity / |gravity| ("down") and the extent [a, b] of the voxel boxes
 ///    projected onto d, a voxel whose centre c has b - c.d <= support_fraction * (b - a) lies in the
 ///    bottom support_fraction of the extent; all 8 nodes of such a voxel are fixed (all three
