@@ -140,7 +140,7 @@ struct voxel_solver_options {
     /// closer than the coarse spacing), as long as the level reached has at most
     /// max_split_coarse_dofs DOFs (its direct factorization stays cheap). 1 = never stop early.
     double max_split_fraction = 0.05;
-    std::size_t max_split_coarse_dofs = 120000;
+    std::size_t max_split_coarse_dofs = 120000;  ///< multigrid: see max_split_fraction (DOFs of the level reached)
     std::size_t max_direct_dofs = 200000;  ///< direct: refuse larger systems (memory)
 
     void validate() const {
