@@ -196,10 +196,6 @@ public:
         std::sort(r.begin(), r.end(), [](const node_condition& a, const node_condition& b) { return a.node < b.node; });
         return r;
     }
-    /// Node count of the grid, (cells.x + 1)(cells.y + 1)(cells.z + 1).
-    [[nodiscard]] std::size_t node_count() const noexcept {
-        return static_cast<std::size_t>(cells.x + 1) * static_cast<std::size_t>(cells.y + 1) * static_cast<std::size_t>(cells.z + 1);
-    }
 
 private:
     struct value {

@@ -129,7 +129,6 @@ struct voxel_operator {
     const voxel_element* element = nullptr;
     std::vector<std::int32_t> voxel_index;   ///< per box voxel: solid voxel number or -1
     std::vector<double> scale;               ///< per solid voxel (> 0)
-    std::vector<ivec3> voxel_pos;            ///< per solid voxel: its box coordinates
     std::vector<std::array<std::int32_t, 8>> corners;  ///< per solid voxel: active node numbers (hex8 order)
     std::array<std::vector<std::int32_t>, 8> color;    ///< solid voxels by parity class (i%2, j%2, k%2), ascending
     bool seam = false;                       ///< periodic with an odd count > 1: classes share nodes across the seam
@@ -207,12 +206,12 @@ struct voxel_operator {
     for (std::size_t e = 0; e < nv; ++e)
         if (box_scale[e] != 0.0) op.voxel_index[e] = solid++;
     op.scale.resize(static_cast<std::size_t>(solid));
-    op.voxel_pos.resize(static_cast<std::size_t>(solid));
+    std::vector<ivec3> pos(static_cast<std::size_t>(solid));  // per solid voxel: its box coordinates
     const node_grid vox{cells, false};
     for (std::size_t e = 0; e < nv; ++e)
         if (const std::int32_t v = op.voxel_index[e]; v >= 0) {
             op.scale[static_cast<std::size_t>(v)] = box_scale[e];
-            op.voxel_pos[static_cast<std::size_t>(v)] = vox.coords(e);
+            pos[static_cast<std::size_t>(v)] = vox.coords(e);
         }
     op.active = node_set::select(op.nodes, [&](std::size_t b) {
         bool any = false;
@@ -221,13 +220,13 @@ struct voxel_operator {
     });
     op.corners.resize(op.scale.size());
     parallel_for(0, op.scale.size(), [&](std::size_t v) {
-        const ivec3 c = op.voxel_pos[v];
+        const ivec3 c = pos[v];
         for (int b = 0; b < 8; ++b)
             op.corners[v][static_cast<std::size_t>(b)] = op.active.at(c + ivec3(voxel_corner[static_cast<std::size_t>(b)][0], voxel_corner[static_cast<std::size_t>(b)][1],
                                                                                 voxel_corner[static_cast<std::size_t>(b)][2]));
     }, {.grain = 4096});
     for (std::size_t v = 0; v < op.scale.size(); ++v) {
-        const ivec3 c = op.voxel_pos[v];
+        const ivec3 c = pos[v];
         op.color[static_cast<std::size_t>((c.x & 1) | ((c.y & 1) << 1) | ((c.z & 1) << 2))].push_back(static_cast<std::int32_t>(v));
     }
     for (int a = 0; a < 3; ++a) op.seam = op.seam || (periodic && cells[a] % 2 == 1 && cells[a] > 1);
