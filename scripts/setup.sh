@@ -15,6 +15,9 @@ packages=(
   libboost-dev                     # header-only: Boost.Polygon segment Voronoi (medial axis)
   catch2 libbenchmark-dev
   nlohmann-json3-dev               # the tools' --json summaries (examples/common/tool.hpp)
+  pybind11-dev python3-dev python3-numpy   # the Python package (python/)
+  python3-pytest python3-dask python3-distributed   # its tests, and fabsynth.distributed on a Dask cluster
+  python3-matplotlib python3-tqdm  # examples/python: figures, progress bars
 )
 missing=()
 for p in "${packages[@]}"; do

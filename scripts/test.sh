@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it (.ci/run calls exactly this):
 #   1. install the Debian packages (scripts/setup.sh),
-#   2. Release build + every test (incl. [slow] ones and the installed-package consumer),
+#   2. Release build + every test (incl. [slow] ones, the installed-package consumer and the Python
+#      package's pytest suite),
 #   3. each libFuzzer target for a short bounded time (clang),
 #   4. the tests of the modules where memory errors hide (tests/CMakeLists.txt:
 #      FABSYNTH_SANITIZE_MODULES) once more under AddressSanitizer + UndefinedBehaviorSanitizer; the
@@ -13,7 +14,10 @@ bash scripts/setup.sh
 jobs=$(nproc)
 
 echo "== Release build and tests"
-cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DFABSYNTH_BUILD_BENCHMARKS=ON >/dev/null
+# the Python package is built for Debian's interpreter, whose python3-* packages setup.sh installs
+python=()
+[[ -x /usr/bin/python3 ]] && python=(-DPython_EXECUTABLE=/usr/bin/python3)
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DFABSYNTH_BUILD_BENCHMARKS=ON "${python[@]}" >/dev/null
 cmake --build build/release -j "$jobs"
 ctest --test-dir build/release --output-on-failure --no-tests=error -j "$jobs"
 
@@ -23,7 +27,7 @@ bash scripts/fuzz.sh "$FABSYNTH_FUZZ_SECONDS"
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
 # -O1 -g1 (line tables): what the sanitizers need for useful reports, at half the compile time of -O2 -g
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DFABSYNTH_SANITIZE=ON \
-  -DFABSYNTH_BUILD_EXAMPLES=OFF -DFABSYNTH_BUILD_BENCHMARKS=OFF >/dev/null
+  -DFABSYNTH_BUILD_EXAMPLES=OFF -DFABSYNTH_BUILD_BENCHMARKS=OFF -DFABSYNTH_PYTHON=OFF >/dev/null
 cmake --build build/asan -j "$jobs"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
