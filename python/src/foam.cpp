@@ -97,16 +97,18 @@ py::list slices_of(const Object& obj, const std::vector<double>& zs, const std::
 
 template <class Object>
 py::array_t<bool> contains_of(const Object& obj, const darray& points) {
-    const std::vector<vec3> pts = points_from<vec3>(points, "points");
+    if (points.ndim() != 2 || points.shape(1) != 3) throw invalid_input("points must be an n x 3 array (mm)");
+    // the C-contiguous float64 buffer is read in place as vec3s (three doubles, no padding), and the
+    // answers written straight into the bool array (one byte each): no copy of 10^6 points
+    static_assert(sizeof(vec3) == 3 * sizeof(double) && sizeof(bool) == 1);
+    const std::span<const vec3> pts(reinterpret_cast<const vec3*>(points.data()), static_cast<std::size_t>(points.shape(0)));
     py::array_t<bool> out(static_cast<py::ssize_t>(pts.size()));
-    bool* o = out.mutable_data();
+    const std::span<std::uint8_t> o(reinterpret_cast<std::uint8_t*>(out.mutable_data()), pts.size());
     py::gil_scoped_release nogil;
     if constexpr (std::is_same_v<Object, foam_type>) {
-        std::vector<std::uint8_t> r(pts.size());
-        obj.contains(pts, r);  // the batch query: block by block, in parallel
-        for (std::size_t i = 0; i < r.size(); ++i) o[i] = r[i] != 0;
+        obj.contains(pts, o);  // the batch query: block by block, in parallel; writes 0 or 1
     } else {
-        parallel_for(0, pts.size(), [&](std::size_t i) { o[i] = obj.contains(pts[i]); }, {.grain = 1024});
+        parallel_for(0, pts.size(), [&](std::size_t i) { o[i] = obj.contains(pts[i]) ? 1 : 0; }, {.grain = 1024});
     }
     return out;
 }

@@ -1,0 +1,35 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""The Python binding's overhead on Foam.contains for 10^6 points, against the C++ batch call.
+
+Same foam and points as bench_foam's BM_FoamPointBatch (density 0.02 -> 0.4 seeds/mm^3 along x over
+20 mm, tau 0.25 mm, cell 4 mm, seed 2016; 10^6 uniform points in a 40 mm cube, a warm pass first):
+    PYTHONPATH=build/release/python python3 benchmarks/python_contains.py build/release/benchmarks/bench_foam
+prints the median of 9 calls through Python and the C++ figure of BM_FoamPointBatch/2 (2 threads).
+"""
+import json
+import statistics
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+import fabsynth
+
+foam = fabsynth.foam.Foam(density_x=(0.02, 0.4, 0, 20), radius=0.25, cell=4, seed=2016)
+points = np.random.default_rng(17).uniform(0, 40, (1_000_000, 3))
+foam.contains(points)  # warm: every thread's cache holds the cube's blocks, as in the C++ benchmark
+times = []
+for _ in range(9):
+    t0 = time.perf_counter()
+    foam.contains(points)
+    times.append(time.perf_counter() - t0)
+py_ms = 1e3 * statistics.median(times)
+print(f"python Foam.contains, 10^6 points, {fabsynth.num_threads()} threads: median {py_ms:.1f} ms (min {1e3 * min(times):.1f})")
+if len(sys.argv) > 1:
+    out = subprocess.run([sys.argv[1], "--benchmark_filter=BM_FoamPointBatch/2", "--benchmark_format=json"], check=True,
+                         capture_output=True, text=True).stdout
+    bench = json.loads(out)["benchmarks"][0]
+    cpp_ms = bench["real_time"] if bench["time_unit"] == "ms" else bench["real_time"] / 1e6
+    print(f"C++ BM_FoamPointBatch/2: {cpp_ms:.1f} ms; binding overhead {100 * (py_ms / cpp_ms - 1):+.1f}%")
