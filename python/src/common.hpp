@@ -180,5 +180,6 @@ auto released(const py::object& progress, F&& f) {
 void bind_io(py::module_& m);
 void bind_foam(py::module_& m);
 void bind_fem(py::module_& m);
+void bind_surface_pattern(py::module_& m);
 
 }  // namespace fabsynth::python
