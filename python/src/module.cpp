@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The extension module `fabsynth._fabsynth`: the exception classes, the thread count and one
-// submodule per library namespace (io.cpp, foam.cpp, fem.cpp, surface_pattern.cpp). python/fabsynth/*.py re-export them
+// submodule per library namespace (io.cpp, foam.cpp, fem.cpp, surface_pattern.cpp,
+// filigree.cpp). python/fabsynth/*.py re-export them
 // as the package `fabsynth`.
 #include "common.hpp"
 
@@ -71,4 +72,6 @@ PYBIND11_MODULE(_fabsynth, m) {
     bind_fem(fem_m);
     auto sp_m = m.def_submodule("surface_pattern", "Structurally sound surface patterns by example (Lu et al. 2015).");
     bind_surface_pattern(sp_m);
+    auto fg_m = m.def_submodule("filigree", "Filigrees (Chen et al. 2016): planar and on a base surface.");
+    bind_filigree(fg_m);
 }
