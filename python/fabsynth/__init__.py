@@ -15,7 +15,7 @@ command-line tools' for the same options, for any thread count (set_num_threads)
 """
 from ._fabsynth import (Cancelled, Error, InvalidInput, IoError, NoSolution, SolverError, __version__, num_threads,
                         set_num_threads)
-from . import distributed, fem, filigree, foam, io, surface_pattern
+from . import distributed, fem, filigree, foam, io, surface_pattern, vector_pattern
 
-__all__ = ["Cancelled", "Error", "InvalidInput", "IoError", "NoSolution", "SolverError", "__version__", "distributed", "fem", "filigree", "foam", "io", "surface_pattern",
+__all__ = ["Cancelled", "Error", "InvalidInput", "IoError", "NoSolution", "SolverError", "__version__", "distributed", "fem", "filigree", "foam", "io", "surface_pattern", "vector_pattern",
            "num_threads", "set_num_threads"]

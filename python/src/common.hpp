@@ -182,5 +182,6 @@ void bind_foam(py::module_& m);
 void bind_fem(py::module_& m);
 void bind_surface_pattern(py::module_& m);
 void bind_filigree(py::module_& m);
+void bind_vector_pattern(py::module_& m);
 
 }  // namespace fabsynth::python

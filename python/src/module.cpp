@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The extension module `fabsynth._fabsynth`: the exception classes, the thread count and one
 // submodule per library namespace (io.cpp, foam.cpp, fem.cpp, surface_pattern.cpp,
-// filigree.cpp). python/fabsynth/*.py re-export them
+// filigree.cpp, vector_pattern.cpp). python/fabsynth/*.py re-export them
 // as the package `fabsynth`.
 #include "common.hpp"
 
@@ -74,4 +74,6 @@ PYBIND11_MODULE(_fabsynth, m) {
     bind_surface_pattern(sp_m);
     auto fg_m = m.def_submodule("filigree", "Filigrees (Chen et al. 2016): planar and on a base surface.");
     bind_filigree(fg_m);
+    auto vp_m = m.def_submodule("vector_pattern", "Topology-constrained vector patterns along curves (Zhou et al. 2014).");
+    bind_vector_pattern(vp_m);
 }
