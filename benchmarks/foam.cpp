@@ -18,6 +18,7 @@
 #include "fabsynth/core/parallel.hpp"
 #include "fabsynth/core/rng.hpp"
 #include "fabsynth/foam/evaluator.hpp"
+#include "fabsynth/foam/field_adaptors.hpp"
 
 using namespace fabsynth;
 using namespace fabsynth::foam;
@@ -260,6 +261,26 @@ void BM_FoamPointBatch(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations() * static_cast<long>(pts.size()));
 }
 BENCHMARK(BM_FoamPointBatch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+
+// The same batch through the field type chosen at run time, as foam_slicer and the Python package's
+// Foam hold it (a variant of constant and ramp, inside a variant with the elasticity mapping): the
+// C++ side of benchmarks/python_contains.py, which measures the binding's overhead on top of it.
+void BM_FoamPointBatchRuntimeField(benchmark::State& state) {
+    using value_field = variant_field<constant_field, linear_field>;
+    using density_field = variant_field<value_field, elasticity_density_field<value_field>>;
+    static const voronoi_foam f(density_field{value_field{linear_field{0, 0.02, 0.4, 0, 20}}}, constant_field{0.25}, {.cell = 4, .seed = 2016});
+    set_num_threads(static_cast<unsigned>(state.range(0)));
+    const auto& pts = cube_points();
+    std::vector<std::uint8_t> out(pts.size());
+    f.contains(pts, out);  // warm, as the Python script does before timing
+    for (auto _ : state) {
+        f.contains(pts, out);
+        benchmark::DoNotOptimize(out.data());
+    }
+    set_num_threads(0);
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(pts.size()));
+}
+BENCHMARK(BM_FoamPointBatchRuntimeField)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
 // The grid as one slice, and as a stack of 200 slices at 0.05 mm (for_each_slice).
 void BM_FoamPointGridSlice(benchmark::State& state) {

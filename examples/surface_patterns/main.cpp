@@ -238,7 +238,7 @@ int main(int argc, char** argv) {
             po.structural.fixed = sp::plane_support({support_plane[0], support_plane[1], support_plane[2]},
                                                     {support_plane[3], support_plane[4], support_plane[5]}, support_band < 0 ? h : support_band);
         if (!loads_path.empty()) po.structural.loads = read_loads(loads_path);
-        const sp::pattern_result res = sp::make_pattern(mesh, std::move(ex), po, progress);
+        const sp::pattern_result res = sp::make_pattern(mesh, std::move(ex), po, [&](double f, std::string_view stage) { return progress(0.9 * f, stage); });  // writing is the last 10%
 
         // everything is computed: write the set
         progress(0.9, "write");

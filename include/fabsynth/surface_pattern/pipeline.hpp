@@ -364,7 +364,7 @@ template <progress_callback P = no_progress>
         out.seconds.preview = since(t);
     }
     out.seconds.total = since(t_start);
-    report_progress(progress, 0.9, "done");
+    report_progress(progress, 1.0, "done");
     return out;
 }
 
