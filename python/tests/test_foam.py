@@ -76,6 +76,10 @@ def test_mesh_foam_stack_equals_foam_slicer_slice(tmp_path, tool, data):
     assert 0.05 < (mid == 255).mean() < 0.6
     pts = np.array([[0, 0, 7.9], [0, 0, 8.1], [100, 100, 100]])  # in the frame, just outside, far away
     assert list(obj.contains(pts)) == [True, False, False]
+    assert np.array_equal(obj.slice(manifest["slices"][2]["z_mm"], plan["region"], plan["pixel"]), mid)
+    cut = fabsynth.foam.MeshFoam(obj.foam, V, F, frame=0.5, cuts=[((0, 0, 0), (0, 0, 2))])  # keeps z <= 0
+    assert cut.cuts == [((0, 0, 0), (0, 0, 1))]  # normals are unit vectors
+    assert not cut.slice(4.0, plan["region"], 0.2).any() and cut.slice(-4.0, plan["region"], 0.2).any()
     twin = pickle.loads(pickle.dumps(obj))
     assert np.array_equal(next(twin.layers(plan, [plan["selected"][2]])), mid)
 

@@ -38,6 +38,14 @@ def test_make_pattern_equals_the_surface_patterns_tool(tmp_path, tool, data):
     assert [lv["level"] for lv in rep["levels"]] == list(range(len(rep["levels"])))
 
 
+def test_exemplar_properties(data):
+    mask = fabsynth.io.read_png(data / "exemplars" / "hooks.png")
+    ex = sp.make_exemplar(mask, fabsynth.io.read_png(data / "exemplars" / "hooks_color.png"), feature_px=2)
+    assert (ex.width, ex.height, ex.channels, ex.tileable) == (mask.shape[1], mask.shape[0], 5, True)
+    assert ex.solid_fraction == pytest.approx(np.count_nonzero(mask > 127) / mask.size, abs=0.01)
+    assert hooks(data).channels == 2
+
+
 def test_options_are_checked(data):
     V, F = fabsynth.io.read_mesh(data / "meshes" / "bunny_lowres.obj")
     with pytest.raises(ValueError, match="below one voxel"):

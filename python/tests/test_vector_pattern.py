@@ -48,3 +48,34 @@ def test_impossible_topology_is_no_solution_and_bad_calls_are_refused(data):
         vp.make_pattern(disks, height=8, line=50, circle=10)
     with pytest.raises(ValueError, match="emboss"):
         vp.make_pattern(disks, height=8, line=50, emboss=1.0)
+
+
+def test_band_carved_into_a_surface_equals_curve_patterns(tmp_path, tool, data):
+    # the egg stand of the main job (Fig. 23): separate disks carved out of a 2 mm shell along a wavy loop
+    a = 2 * np.pi * np.arange(8) / 8
+    t = 1.35 + 0.12 * np.sin(2 * a)
+    r = 21 * np.sin(t) * (1 + 0.08 * np.cos(t))
+    points = np.stack([r * np.cos(a), r * np.sin(a), 28 * (1 - np.cos(t))], axis=1)
+    np.savetxt(tmp_path / "egg.csv", points, delimiter=",", fmt="%.17g")
+    mesh, disks = data / "meshes" / "egg_stand.obj", data / "vector" / "disks.svg"
+    tool("curve_patterns", "--exemplar", disks, "--mesh", mesh, "--points", tmp_path / "egg.csv", "--closed", "--height", 12, "--carve", 2,
+         "--cell", 1.0, "-o", tmp_path / "e.svg")
+    V, F = fabsynth.io.read_mesh(mesh)
+    r = vp.make_pattern(vp.exemplar_from_svg(disks), height=12, surface=(V, F), points=np.loadtxt(tmp_path / "egg.csv", delimiter=","),
+                        closed=True, carve=2, cell=1.0)
+    assert same_files(tmp_path, r, "e")
+    rep = r.report
+    # one printable piece with a round window per disk: genus = the pattern's components
+    assert rep["solid_components"] == 1 and rep["solid_genus"] == rep["components"] == len(r.drawn) > 1
+
+
+def test_planar_curves_take_the_requested_topology(data):
+    key = vp.exemplar_from_svg(data / "vector" / "greek_key.svg")
+    straight = vp.make_pattern(key, height=8, line=120, components=1, seed=3)
+    assert straight.report["components"] == 1 and len(straight.drawn) == 1 and not straight.report["closed"]
+    assert straight.report["band_length_mm"] == pytest.approx(120)
+    s = np.linspace(0, 1, 400)
+    wave = np.stack([150 * s, 10 * np.sin(2 * np.pi * 2 * s)], axis=1)
+    r = vp.make_pattern(key, height=8, curve=wave, components=1, holes=20, seed=1)
+    assert r.report["components"] == 1 and r.report["holes"] == 20 and len(r.drawn) == 1 and len(r.drawn[0][1]) == 20
+    assert r.mesh[1].shape[1] == 3 and r.preview.ndim == 2  # planar forms: a grey coverage picture
