@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-20}
 CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFABSYNTH_BUILD_FUZZERS=ON \
-  -DFABSYNTH_BUILD_TESTS=OFF -DFABSYNTH_BUILD_EXAMPLES=OFF -DFABSYNTH_BUILD_BENCHMARKS=OFF >/dev/null
+  -DFABSYNTH_BUILD_TESTS=OFF -DFABSYNTH_BUILD_EXAMPLES=OFF -DFABSYNTH_BUILD_BENCHMARKS=OFF -DFABSYNTH_PYTHON=OFF >/dev/null
 cmake --build build/fuzz -j "$(nproc)"
 mkdir -p build/fuzz/crashes
 for fuzzer in build/fuzz/fuzz/fuzz_*; do
