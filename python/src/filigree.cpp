@@ -173,4 +173,6 @@ void bind_filigree(py::module_& m) {
                        "vertex by vertex_scale (default 1).\n") + common_doc).c_str());
 }
 
+#undef FABSYNTH_FILIGREE_COMMON_ARGS
+
 }  // namespace fabsynth::python
