@@ -2,8 +2,9 @@
 """A structurally sound surface pattern by example on the Stanford bunny.
 
 Carves the "hooks" exemplar into the surface of an 80 mm bunny (160 voxels along it, 0.5 mm),
-reinforcing it until it holds its own weight standing upright, and writes pattern.stl, the preview and surface_pattern.png (the preview and
-the synthesis time of each level of the multiresolution pyramid). Takes tens of seconds.
+reinforcing it until it holds its own weight standing upright, and writes pattern.stl, the preview
+and surface_pattern.png (the preview and the synthesis time of each level of the multiresolution
+pyramid). Takes tens of seconds.
 Run from the repository root after building:
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/python/surface_pattern.py [OUTDIR]
