@@ -10,6 +10,7 @@
 // the pattern is one piece that carries the force profile, thin features enlarged (§6.2.1),
 // thickened inward and meshed. Writes
 //   OUTDIR/pattern.stl   watertight, smoothed mesh of the thickened solid voxels
+//   OUTDIR/pattern.3mf   the same mesh as 3MF, in millimetres (where lib3mf is available)
 //   OUTDIR/shell.vtk     CELL_DATA `state` (unsigned char): 0 not in the shell, 1 shell voxel carved
 //                        empty, 2 solid from the exemplar, 3 reinforcement (made solid by a bridge
 //                        of §5.2 where the pattern was empty), 4 thin feature enlarged (§6.2.1)
@@ -38,6 +39,9 @@
 #include <fabsynth/io/atomic_file.hpp>
 #include <fabsynth/io/vtk.hpp>
 #include <fabsynth/surface_pattern.hpp>
+#if defined(FABSYNTH_HAS_LIB3MF)
+#include <fabsynth/io/mesh_3mf.hpp>
+#endif
 
 #include <chrono>
 #include <cmath>
@@ -188,8 +192,9 @@ int main(int argc, char** argv) {
         auto progress = common.progress();
         const fs::path out(out_dir);
         const fs::path stl = out / "pattern.stl", shell_vtk = out / "shell.vtk", solid_vtk = out / "solid.vtk", preview = out / "preview.png",
-                       report = out / "report.json", connected_vtk = out / "solid_connected.vtk", forces_vtk = out / "solid_forces.vtk";
-        std::vector<fs::path> outputs{stl, shell_vtk, solid_vtk, preview, report};
+                       report = out / "report.json", connected_vtk = out / "solid_connected.vtk", forces_vtk = out / "solid_forces.vtk",
+                       threemf = out / "pattern.3mf";
+        std::vector<fs::path> outputs{stl, threemf, shell_vtk, solid_vtk, preview, report};
         if (stages) outputs.push_back(connected_vtk), outputs.push_back(forces_vtk);
         tool::check_outputs({mesh_path, mask_path, colour_path, loads_path}, outputs);
         if (no_structure && (stages || validate)) throw invalid_input("--stages and --validate need the structural optimizer: drop --no-structure");
@@ -218,6 +223,9 @@ int main(int argc, char** argv) {
         const fs::path stl_file = files.add(stl), shell_file = files.add(shell_vtk), solid_file = files.add(solid_vtk),
                        preview_file = files.add(preview), connected_file = files.add(connected_vtk), forces_file = files.add(forces_vtk),
                        report_file = files.add_manifest(report);
+#if defined(FABSYNTH_HAS_LIB3MF)
+        const fs::path threemf_file = files.add(threemf);
+#endif
 
         progress(0.0, "read inputs");
         const triangle_mesh mesh = io::read_mesh(mesh_path);
@@ -271,6 +279,9 @@ int main(int argc, char** argv) {
         if (res.stage_connected) write_solid(connected_file, *res.stage_connected, validation_of("connected"));
         if (res.stage_forces) write_solid(forces_file, *res.stage_forces, validation_of("forces"));
         io::write_mesh(stl_file, res.mesh);
+#if defined(FABSYNTH_HAS_LIB3MF)
+        io::write_3mf(threemf_file, res.mesh, {.name = "pattern"});  // the same mesh, in millimetres
+#endif
         io::write_png(preview_file, res.preview);
         const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 

@@ -3,7 +3,7 @@
 # planes, 16x16 translations, 64 rotations, 128 candidates; 1000 abstract vertices, ABS, gravity):
 # the bunny with hooks and with zebra (colour previews, the full loop of Algorithm 1),
 # the kitten (z-up) with hooks. The bunny is y-up, hence --up 0 1 0 and
-# --gravity 0 -1 0. Each run writes pattern.stl, shell.vtk (states 0-4), solid.vtk, preview.png
+# --gravity 0 -1 0. Each run writes pattern.stl (and pattern.3mf), shell.vtk (states 0-4), solid.vtk, preview.png
 # (reinforcements blue, enlarged thin features green) and report.json (every iteration).
 # --feature is r_pattern, the exemplar's feature radius in pixels: the hooks are strokes 4 px wide
 # (their horizontal runs: 4 px in 276 of 584), so 2; bridges are dilated by it (§5.2).

@@ -8,6 +8,9 @@
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/vtk.hpp>
+#if defined(FABSYNTH_HAS_LIB3MF)
+#include <fabsynth/io/mesh_3mf.hpp>
+#endif
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -448,6 +451,19 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
     CHECK(report.at("levels").size() == 6);
     CHECK(report.at("pattern_watertight") == true);
     CHECK(std::abs(report.at("solid_fraction").get<double>() - report.at("exemplar_solid_fraction").get<double>()) < 0.15);
+#if defined(FABSYNTH_HAS_LIB3MF)
+    {  // 3MF beside STL: the same mesh, in millimetres (3MF stores decimals of the floats)
+        const fabsynth::triangle_mesh stl = fabsynth::io::read_mesh(fs::path(out) / "pattern.stl");
+        const fabsynth::triangle_mesh m = fabsynth::io::read_3mf(fs::path(out) / "pattern.3mf");
+        REQUIRE(m.faces.size() == stl.faces.size());
+        CHECK(m.faces.size() == report.at("pattern_faces").get<std::size_t>());
+        double worst = 0;
+        for (std::size_t f = 0; f < m.faces.size(); ++f)
+            for (std::size_t k = 0; k < 3; ++k)
+                worst = std::max(worst, glm::length(m.vertices[m.faces[f][k]] - stl.vertices[stl.faces[f][k]]));
+        CHECK(worst < 1e-4);
+    }
+#endif
     CHECK(first["shell.vtk"].find("SCALARS state unsigned_char") != std::string::npos);
     CHECK(first["solid.vtk"].find("SCALARS solid unsigned_char") != std::string::npos);
     const result two = run("surface_patterns", args({"--quiet"}), 2);
