@@ -15,6 +15,7 @@
 #include <fabsynth/core/progress.hpp>
 #include <fabsynth/core/types.hpp>
 #include <fabsynth/geometry/mesh.hpp>
+#include <fabsynth/geometry/polygon.hpp>
 
 #include <chrono>
 #include <cstdint>
@@ -102,6 +103,17 @@ template <class V>
     image8 img(w, h, ch);  // checks the sizes and 1 <= c <= 4
     std::copy_n(c.data(), img.data.size(), img.data.begin());
     return img;
+}
+
+/// Polygons with holes as [(outer n x 2, [holes n x 2])] (mm), for outlines and drawings.
+[[nodiscard]] inline py::list polygons_to(const std::vector<polygon_with_holes>& polys) {
+    py::list out;
+    for (const polygon_with_holes& p : polys) {
+        py::list holes;
+        for (const ring2& h : p.holes) holes.append(points_to(h));
+        out.append(py::make_tuple(points_to(p.outer), holes));
+    }
+    return out;
 }
 
 [[nodiscard]] inline box2 box2_from(const std::vector<double>& v, const char* what) {

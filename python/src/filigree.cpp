@@ -16,16 +16,6 @@ namespace {
 
 namespace fg = fabsynth::filigree;
 
-py::list outline_to(const std::vector<polygon_with_holes>& polys) {
-    py::list out;
-    for (const polygon_with_holes& p : polys) {
-        py::list holes;
-        for (const ring2& h : p.holes) holes.append(points_to(h));
-        out.append(py::make_tuple(points_to(p.outer), holes));
-    }
-    return out;
-}
-
 py::dict record_to(const fg::structural_record& r) {
     py::dict d;
     d["analysed"] = r.analysed, d["thickness_mm"] = r.thickness, d["strong"] = r.strong, d["weak_nodes_final"] = r.weak_nodes_final;
@@ -95,7 +85,7 @@ void bind_filigree(py::module_& m) {
           "tolerance_mm: polygonal approximation.");
 
     py::class_<fg::planar_filigree, std::shared_ptr<fg::planar_filigree>>(m, "PlanarFiligree", "What make_filigree returns in a planar domain.")
-        .def_property_readonly("outline", [](const fg::planar_filigree& f) { return outline_to(f.outline()); },
+        .def_property_readonly("outline", [](const fg::planar_filigree& f) { return polygons_to(f.outline()); },
                                "The printable piece: [(outer n x 2, [holes])] in mm, the domain's frame (y down, as drawn).")
         .def_property_readonly("mesh", [](const fg::planar_filigree& f) { return mesh_to(f.mesh); }, "(V, F): the watertight extrusion, y flipped (mm).")
         .def_property_readonly("view", [](const fg::planar_filigree& f) { return py::make_tuple(f.view.lo.x, f.view.lo.y, f.view.hi.x, f.view.hi.y); })

@@ -16,16 +16,6 @@ namespace {
 
 namespace vp = fabsynth::vector_pattern;
 
-py::list polygons_to(const std::vector<polygon_with_holes>& polys) {
-    py::list out;
-    for (const polygon_with_holes& p : polys) {
-        py::list holes;
-        for (const ring2& h : p.holes) holes.append(points_to(h));
-        out.append(py::make_tuple(points_to(p.outer), holes));
-    }
-    return out;
-}
-
 }  // namespace
 
 void bind_vector_pattern(py::module_& m) {
