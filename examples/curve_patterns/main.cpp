@@ -55,6 +55,7 @@
 #include <vector>
 
 #include "output_set.hpp"
+#include "print_mesh.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -123,6 +124,7 @@ int main(int argc, char** argv) {
     app.add_option("--slicing", slicing, "exemplar slicing: reeb (topology-driven, §5.2) or uniform (§5.1)")->capture_default_str();
     app.add_option("--beta", beta, "autocorrelation penalty weight (§3.7), 0 = off")->capture_default_str();
     app.add_option("-o,--output", out_path, "output SVG; OUT.stl and OUT.png are written beside it")->required();
+    tool::mesh_simplification simplify(app, 0.05, "0.05 mm");
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
@@ -245,7 +247,7 @@ int main(int argc, char** argv) {
         // The pipeline: synthesis, mapping, the printable solid, the preview (progress within 5%-85%).
         const vector_pattern::pattern_result res = vector_pattern::make_pattern(
             raw, *where, po, [&](double fraction, std::string_view stage) { progress(0.05 + 0.8 * fraction, stage); });
-        const triangle_mesh& mesh = res.mesh;
+        const triangle_mesh mesh = simplify(res.mesh, common, stl_out.filename().string());
         if (on_surface)
             what = std::string(emboss ? "embossed" : "carved") + (res.closed ? " closed" : " open") + " band of length " + std::to_string(res.band_length) +
                    " on " + mesh_path + (res.cut_open ? " (closed: cut open for the map, far from the points)" : "");

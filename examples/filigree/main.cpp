@@ -53,6 +53,7 @@
 #include <vector>
 
 #include "output_set.hpp"
+#include "print_mesh.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -216,7 +217,7 @@ auto progress_between(Progress& progress, double from, double to) {
 
 // The --mesh form: elements read as in the 2D form, the rest on the surface.
 template <class Progress>
-void run_surface_mode(const surface_request& rq, const std::vector<std::string>& element_args, double scale, double width, surface_filigree_options opt, double tolerance, double max_elements, const std::string& out_path, tool::common& common,
+void run_surface_mode(const surface_request& rq, const std::vector<std::string>& element_args, double scale, double width, surface_filigree_options opt, double tolerance, double max_elements, const std::string& out_path, tool::common& common, tool::mesh_simplification& simplify,
                       Progress& progress) {
     const auto t_start = std::chrono::steady_clock::now();
     std::vector<element_arg> elements;
@@ -307,6 +308,8 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     const surface_filigree f = make_filigree(classes, weights, base, opt, progress_between(progress, 0.0, 0.95));
     const surface_synthesis_result& syn = f.synthesis;
     const surface_reinforcement_result& rf = f.reinforcement;
+    simplify.default_tolerance(0.5 * f.solid_cell);
+    const triangle_mesh solid = simplify(f.solid, common, stl_out.filename().string());
 
     nlohmann::ordered_json report = {
         {"tool", "filigree"},
@@ -329,7 +332,7 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
         {"instances_final", rf.instances.size()},
         {"thickness_mm", rf.thickness},
         {"baked_triangles", rf.baked.faces.size()},
-        {"stl_triangles", f.solid.faces.size()},
+        {"stl_triangles", solid.faces.size()},
         {"stl_components", f.solid_components},
         {"seconds", {{"initialization", f.seconds.synthesis.initialization}, {"placement", f.seconds.synthesis.placement},
                      {"boosting", f.seconds.synthesis.boosting}, {"topology_cut", f.seconds.synthesis.topology_cut},
@@ -338,12 +341,13 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     report.update(layout_fields(syn));
     for (std::size_t c = 0; c < classes.size(); ++c)
         report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"labels", elements[c].labels}, {"instances", f.instances_per_class[c]}});
+    report["meshes"] = simplify.report();
 
     progress(0.95, "write");
-    io::write_stl(stl_file, f.solid);
+    io::write_stl(stl_file, solid);
     io::write_obj(obj_file, rf.baked);
 #if defined(FABSYNTH_HAS_LIB3MF)
-    io::write_3mf(threemf_file, f.solid, {.name = out.stem().string()});
+    io::write_3mf(threemf_file, solid, {.name = out.stem().string()});
 #endif
     io::write_png(png_file, f.preview);
     if (!f.histogram.empty()) io::write_png(hist_file, f.histogram);
@@ -353,7 +357,7 @@ void run_surface_mode(const surface_request& rq, const std::vector<std::string>&
     progress(1.0, "write");
     char line[400];
     std::snprintf(line, sizeof line, "%s: %zu instances on the surface, %d rounds, PME %.1f -> %.1f, thickness %.3g mm, %zu solid triangles",
-                  stl_out.string().c_str(), rf.instances.size(), syn.rounds, syn.energy_initial, syn.energy_final, rf.thickness, f.solid.faces.size());
+                  stl_out.string().c_str(), rf.instances.size(), syn.rounds, syn.energy_initial, syn.energy_final, rf.thickness, solid.faces.size());
     common.say(line);
     common.summary(report);
 }
@@ -429,6 +433,7 @@ int main(int argc, char** argv) {
     app.add_option("--tolerance", tolerance, "polygonal approximation of the element skeletons, mm")->capture_default_str();
     app.add_option("--max-elements", max_elements, "refuse domains estimated to need more element instances than this")->capture_default_str();
     app.add_option("-o,--output", out_path, "output SVG; OUT.stl, OUT.png, OUT_steps.png and OUT.json are written beside it")->required();
+    tool::mesh_simplification simplify(app, 0.05, "0.05 mm; with --mesh, half the grid spacing of the thickening");
     surface_request on_mesh;
     auto* o_mesh = app.add_option("--mesh", on_mesh.mesh, "base surface (OBJ, STL, PLY, 3MF): synthesize on it instead of a 2D domain")
                        ->check(CLI::ExistingFile);
@@ -483,7 +488,7 @@ int main(int argc, char** argv) {
             surface_filigree_options so;
             static_cast<filigree_options&>(so) = opt;
             so.up = vec3(on_mesh.up[0], on_mesh.up[1], on_mesh.up[2]);
-            return run_surface_mode(on_mesh, element_args, scale, width, std::move(so), tolerance, max_elements, out_path, common, progress);
+            return run_surface_mode(on_mesh, element_args, scale, width, std::move(so), tolerance, max_elements, out_path, common, simplify, progress);
         }
         const fs::path svg_out(out_path);
         fs::path stl_out = svg_out, png_out = svg_out, json_out = svg_out, threemf_out = svg_out;
@@ -580,6 +585,7 @@ int main(int argc, char** argv) {
         const planar_filigree f = make_filigree(std::span<const element>(classes), weights, domain, field, opt, progress_between(progress, 0.05, 0.95));
         const synthesis_result& syn = f.synthesis;
         const reinforcement_result& rf = f.reinforcement;
+        const triangle_mesh mesh = simplify(f.mesh, common, stl_out.filename().string());
 
         nlohmann::ordered_json report = {
             {"tool", "filigree"},
@@ -604,7 +610,7 @@ int main(int argc, char** argv) {
             {"structure", structure_fields(rf, opt.reinforcement, nullptr)},
             {"weak_points_mm", points_json(rf.weak_points)},
             {"thickness_mm", rf.thickness},
-            {"stl_triangles", f.mesh.faces.size()},
+            {"stl_triangles", mesh.faces.size()},
             {"seconds", {{"initialization", f.seconds.synthesis.initialization}, {"placement", f.seconds.synthesis.placement},
                          {"boosting", f.seconds.synthesis.boosting}, {"topology_cut", f.seconds.synthesis.topology_cut},
                          {"structure", f.seconds.structure}, {"total", seconds_since(t_start)}}},
@@ -614,12 +620,13 @@ int main(int argc, char** argv) {
             report["elements"].push_back({{"file", elements[c].path}, {"weight", weights[c]}, {"labels", elements[c].labels}, {"instances", f.instances_per_class[c]},
                                           {"skeleton_vertices", classes[c].vertices.size()}, {"size_mm", classes[c].size},
                                           {"median_strip_width_mm", classes[c].median_width()}});
+        report["meshes"] = simplify.report();
 
         progress(0.95, "write");
         io::write_svg(svg_file, io::document_of(f.outline(), f.view));
-        io::write_stl(stl_file, f.mesh);
+        io::write_stl(stl_file, mesh);
 #if defined(FABSYNTH_HAS_LIB3MF)
-        io::write_3mf(threemf_file, f.mesh, {.name = svg_out.stem().string()});
+        io::write_3mf(threemf_file, mesh, {.name = svg_out.stem().string()});
 #endif
         io::write_png(png_file, f.preview);
         io::write_png(steps_file, f.steps);

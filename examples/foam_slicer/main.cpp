@@ -52,6 +52,7 @@
 #include <vector>
 
 #include "output_set.hpp"
+#include "print_mesh.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -150,6 +151,7 @@ int main(int argc, char** argv) {
     slice_cmd->add_flag("--elasticity", elasticity, "field values are E/Es, mapped by the fitted E = P(rho, tau) at tau = --radius");
     slice_cmd->add_option("--stl-box", stl_box, "X0 Y0 Z0 X1 Y1 Z1: export this sub-box as foam.stl")->expected(6);
     slice_cmd->add_option("--stl-voxel", stl_voxel, "marching-cubes sample spacing for --stl-box, mm");
+    tool::mesh_simplification simplify(*slice_cmd, 0, "half of --stl-voxel");
     slice_cmd->add_option("--beams-box", beams_box, "X0 Y0 Z0 X1 Y1 Z1: export the beam network as beams.vtk")
         ->expected(6);
     double max_memory_gib = 16, max_pixels = 1e11;
@@ -316,7 +318,8 @@ int main(int argc, char** argv) {
         std::size_t stl_triangles = 0, beam_count = 0;
         if (stl_region) {
             progress(0.0, "foam.stl");
-            const triangle_mesh m = framed_foam_mesh(obj, *stl_region, stl_voxel);
+            simplify.default_tolerance(0.5 * stl_voxel);
+            const triangle_mesh m = simplify(framed_foam_mesh(obj, *stl_region, stl_voxel), common, "foam.stl");
             io::write_mesh(foam_stl, m);
 #if defined(FABSYNTH_HAS_LIB3MF)
             io::write_3mf(foam_3mf, m, {.name = "foam"});

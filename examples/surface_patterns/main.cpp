@@ -9,7 +9,8 @@
 // abstract graph, beam FEM, reinforcement bridges) alternating with constrained resynthesis until
 // the pattern is one piece that carries the force profile, thin features enlarged (§6.2.1),
 // thickened inward and meshed. Writes
-//   OUTDIR/pattern.stl   watertight, smoothed mesh of the thickened solid voxels
+//   OUTDIR/pattern.stl   watertight, smoothed mesh of the thickened solid voxels, simplified within
+//                        --mesh-tolerance (default half a voxel; --no-simplify: as extracted)
 //   OUTDIR/pattern.3mf   the same mesh as 3MF, in millimetres (where lib3mf is available)
 //   OUTDIR/shell.vtk     CELL_DATA `state` (unsigned char): 0 not in the shell, 1 shell voxel carved
 //                        empty, 2 solid from the exemplar, 3 reinforcement (made solid by a bridge
@@ -54,6 +55,7 @@
 #include <vector>
 
 #include "output_set.hpp"
+#include "print_mesh.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -148,6 +150,7 @@ int main(int argc, char** argv) {
     app.add_option("--seed", seed, "random seed");
     app.add_option("--min-feature", min_feature, "smallest printable feature (mm): smaller solid pieces are removed, thinner features enlarged (default: the thickness)");
     app.add_option("--smoothing", smoothing, "Taubin smoothing iterations of pattern.stl")->check(CLI::Range(0, 200));
+    tool::mesh_simplification simplify(app, 0, "half a voxel");
     app.add_flag("--no-tiling", no_tiling, "the exemplar does not tile: penalise lookups near its border (§6.1)");
     app.add_option("--gravity", gravity, "force profile: gravity direction; the lowest 10% along it are the supports")->expected(3);
     CLI::Option* plane_opt = app.add_option("--support-plane", support_plane,
@@ -278,9 +281,11 @@ int main(int argc, char** argv) {
         };
         if (res.stage_connected) write_solid(connected_file, *res.stage_connected, validation_of("connected"));
         if (res.stage_forces) write_solid(forces_file, *res.stage_forces, validation_of("forces"));
-        io::write_mesh(stl_file, res.mesh);
+        simplify.default_tolerance(0.5 * res.voxel_mm);
+        const triangle_mesh pattern = simplify(res.mesh, common, "pattern.stl");
+        io::write_mesh(stl_file, pattern);
 #if defined(FABSYNTH_HAS_LIB3MF)
-        io::write_3mf(threemf_file, res.mesh, {.name = "pattern"});  // the same mesh, in millimetres
+        io::write_3mf(threemf_file, pattern, {.name = "pattern"});  // the same mesh, in millimetres
 #endif
         io::write_png(preview_file, res.preview);
         const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -344,7 +349,8 @@ int main(int argc, char** argv) {
         }
         rep["solid_voxels"] = res.thickened.voxels.size();
         rep["components_26"] = res.components_26;
-        rep["pattern_faces"] = res.mesh.num_faces();
+        rep["pattern_faces"] = pattern.num_faces();
+        rep["meshes"] = simplify.report();
         rep["pattern_watertight"] = res.watertight;
         if (validate) {
             nlohmann::ordered_json validation = nlohmann::ordered_json::object();
@@ -367,7 +373,7 @@ int main(int argc, char** argv) {
                       "%zu solid voxels in %zu 26-components, pattern.stl %zu faces %s; synthesis %.2f s, structure %.2f s, total %.2f s",
                       fs::path(mesh_path).filename().string().c_str(), res.shell_voxels.size(), res.pyramid_levels, res.solid_fraction,
                       res.exemplar_solid_fraction, res.reinforcement_ratio(), res.structure.iterations.size(), no_structure ? "off" : res.structure.converged ? "converged" : "bound hit",
-                      solves, res.thickened.voxels.size(), res.components_26, res.mesh.num_faces(), res.watertight ? "watertight" : "NOT watertight",
+                      solves, res.thickened.voxels.size(), res.components_26, pattern.num_faces(), res.watertight ? "watertight" : "NOT watertight",
                       ts.synthesis, ts.structural_analysis, total);
         common.say(line);
         if (!no_structure && res.structure.overloaded) {
@@ -393,7 +399,7 @@ int main(int argc, char** argv) {
                         {"structural_iterations", res.structure.iterations.size()},
                         {"converged", no_structure || res.structure.converged},
                         {"components_26", res.components_26},
-                        {"pattern_faces", res.mesh.num_faces()},
+                        {"pattern_faces", pattern.num_faces()},
                         {"watertight", res.watertight},
                         {"outputs", outs},
                         {"seconds", total}});

@@ -1,8 +1,8 @@
 // voxelize MESH --resolution N -o OUTDIR
 //
 // Writes OUTDIR/shell.vtk (voxel cells with fields shell 0/1 and solid 0/1 as bytes, normal as
-// floats), OUTDIR/solid.stl (marching cubes of the solid voxels: watertight; also solid.3mf where
-// lib3mf is available) and OUTDIR/slices.png (z-slices: shell coloured by normal | solid), and
+// floats), OUTDIR/solid.stl (marching cubes of the solid voxels, simplified within
+// --mesh-tolerance, default half a voxel: watertight; also solid.3mf where lib3mf is available) and OUTDIR/slices.png (z-slices: shell coloured by normal | solid), and
 // prints a one-line summary (--json: a JSON summary). The memory the run needs is estimated
 // before anything is allocated and refused above --max-memory; the four files appear together at
 // the end of a successful run (examples/common/output_set.hpp). Conventions (exit codes, --quiet,
@@ -24,6 +24,7 @@
 #include <string>
 
 #include "output_set.hpp"
+#include "print_mesh.hpp"
 #include "tool.hpp"
 
 namespace fs = std::filesystem;
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", out_dir, "output directory")->required();
     double max_memory_gib = 16;
     tool::add_memory_limit(app, max_memory_gib);
+    tool::mesh_simplification simplify(app, 0, "half a voxel");
 
     return tool::run(app, common, argc, argv, [&] {
         auto progress = common.progress();
@@ -90,7 +92,8 @@ int main(int argc, char** argv) {
         progress(0.4, "solid voxels");
         const voxel_grid<std::uint8_t> solid = voxelize_solid(mesh, g);
         progress(0.6, "marching cubes");
-        const triangle_mesh remesh = marching_cubes(solid);
+        simplify.default_tolerance(0.5 * g.spacing.x);
+        const triangle_mesh remesh = simplify(marching_cubes(solid), common, "solid.stl");
         const auto shell_cc = label_components<connectivity::c26>(shell, [](const shell_voxel& v) { return v.normal != vec3(0); });
         const auto topo = analyze_topology(remesh);
 

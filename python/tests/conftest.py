@@ -23,7 +23,9 @@ def data():
 
 @pytest.fixture
 def tool():
-    """tool("foam_slicer", *args): runs a command-line tool, returns its stdout; skips if it is not built."""
+    """tool("foam_slicer", *args): runs a command-line tool, returns its stdout; skips if it is not built.
+    Comparisons with the library calls pass --no-simplify: the calls return meshes as extracted, the
+    tools simplify them by default."""
     def run(name, *args):
         exe = TOOLS / name / name
         if not exe.exists():

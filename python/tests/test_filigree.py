@@ -9,7 +9,7 @@ fg = fabsynth.filigree
 
 def test_planar_filigree_equals_the_filigree_tool(tmp_path, tool, data):
     svg = data / "filigree" / "spiral.svg"
-    tool("filigree", "--element", svg, "--rect", 40, 30, "--scale", 15, "--width", 0.8, "--no-structure", "--seed", 1, "-o", tmp_path / "t.svg")
+    tool("filigree", "--no-simplify", "--element", svg, "--rect", 40, 30, "--scale", 15, "--width", 0.8, "--no-structure", "--seed", 1, "-o", tmp_path / "t.svg")
     f = fg.make_filigree([fg.element_from_svg(svg, size_mm=15, width_mm=0.8)], rect=(40, 30), seed=1, structure=False)
     fabsynth.io.write_mesh(tmp_path / "p.stl", *f.mesh)
     fabsynth.io.write_png(tmp_path / "p.png", f.preview)
@@ -29,7 +29,7 @@ def test_surface_filigree_equals_the_filigree_tool(tmp_path, tool, data):
     V = V * 16.0  # a sphere of radius 16 mm (exact)
     fabsynth.io.write_mesh(tmp_path / "sphere.obj", V, F)
     svg = data / "filigree" / "spiral.svg"
-    tool("filigree", "--element", svg, "--mesh", tmp_path / "sphere.obj", "--scale", 12, "--width", 0.8, "--no-structure", "--seed", 1,
+    tool("filigree", "--no-simplify", "--element", svg, "--mesh", tmp_path / "sphere.obj", "--scale", 12, "--width", 0.8, "--no-structure", "--seed", 1,
          "-o", tmp_path / "t.svg")
     f = fg.make_surface_filigree([fg.element_from_svg(svg, size_mm=12, width_mm=0.8)], None, V, F, up=(0, 0, 1), seed=1, structure=False)
     fabsynth.io.write_mesh(tmp_path / "p.stl", *f.solid)

@@ -14,7 +14,7 @@ def hooks(data):
 
 def test_make_pattern_equals_the_surface_patterns_tool(tmp_path, tool, data):
     mesh = data / "meshes" / "bunny_lowres.obj"
-    tool("surface_patterns", mesh, "--exemplar", data / "exemplars" / "hooks.png", "--feature", 2, "-r", 48, "--size", 40,
+    tool("surface_patterns", "--no-simplify", mesh, "--exemplar", data / "exemplars" / "hooks.png", "--feature", 2, "-r", 48, "--size", 40,
          "--thickness", 1.2, "--up", 0, 1, 0, "--gravity", 0, -1, 0, "--max-iterations", 2, "--preview-size", 256, "-o", tmp_path / "tool")
     V, F = fabsynth.io.read_mesh(mesh)
     r = sp.make_pattern(V, F, hooks(data), size_mm=40, thickness_mm=1.2, resolution=48, up=(0, 1, 0), gravity=(0, -1, 0),

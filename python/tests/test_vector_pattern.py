@@ -16,7 +16,7 @@ def same_files(tmp_path, r, stem):
 
 def test_closed_band_equals_curve_patterns_and_keeps_its_topology(tmp_path, tool, data):
     svg = data / "vector" / "greek_key.svg"
-    tool("curve_patterns", "--exemplar", svg, "--circle", 30, "--height", 8, "--components", 1, "--seed", 1, "-o", tmp_path / "c.svg")
+    tool("curve_patterns", "--no-simplify", "--exemplar", svg, "--circle", 30, "--height", 8, "--components", 1, "--seed", 1, "-o", tmp_path / "c.svg")
     r = vp.make_pattern(vp.exemplar_from_svg(svg), height=8, circle=30, components=1, seed=1)
     assert same_files(tmp_path, r, "c")
     rep = r.report
@@ -29,13 +29,13 @@ def test_closed_band_equals_curve_patterns_and_keeps_its_topology(tmp_path, tool
 
 def test_rectangle_and_space_curve_equal_curve_patterns(tmp_path, tool, data):
     svg = data / "vector" / "quatrefoil.svg"
-    tool("curve_patterns", "--exemplar", svg, "--rect", 60, 30, "--height", 8, "--seed", 2, "-o", tmp_path / "r.svg")
+    tool("curve_patterns", "--no-simplify", "--exemplar", svg, "--rect", 60, 30, "--height", 8, "--seed", 2, "-o", tmp_path / "r.svg")
     assert same_files(tmp_path, vp.make_pattern(vp.exemplar_from_svg(svg), height=8, rect=(60, 30), seed=2), "r")
     t = np.linspace(0, 4 * np.pi, 200)
     helix = np.stack([20 * np.cos(t), 20 * np.sin(t), 5 * t], axis=1)
     np.savetxt(tmp_path / "helix.csv", helix, delimiter=",", fmt="%.17g")
     key = data / "vector" / "greek_key.svg"
-    tool("curve_patterns", "--exemplar", key, "--curve3d", tmp_path / "helix.csv", "--height", 6, "--seed", 1, "-o", tmp_path / "h.svg")
+    tool("curve_patterns", "--no-simplify", "--exemplar", key, "--curve3d", tmp_path / "helix.csv", "--height", 6, "--seed", 1, "-o", tmp_path / "h.svg")
     r = vp.make_pattern(vp.exemplar_from_svg(key), height=6, curve3d=np.loadtxt(tmp_path / "helix.csv", delimiter=","), seed=1)
     assert same_files(tmp_path, r, "h") and r.report["in_space"] and r.preview.shape[2] == 3
 
@@ -58,7 +58,7 @@ def test_band_carved_into_a_surface_equals_curve_patterns(tmp_path, tool, data):
     points = np.stack([r * np.cos(a), r * np.sin(a), 28 * (1 - np.cos(t))], axis=1)
     np.savetxt(tmp_path / "egg.csv", points, delimiter=",", fmt="%.17g")
     mesh, disks = data / "meshes" / "egg_stand.obj", data / "vector" / "disks.svg"
-    tool("curve_patterns", "--exemplar", disks, "--mesh", mesh, "--points", tmp_path / "egg.csv", "--closed", "--height", 12, "--carve", 2,
+    tool("curve_patterns", "--no-simplify", "--exemplar", disks, "--mesh", mesh, "--points", tmp_path / "egg.csv", "--closed", "--height", 12, "--carve", 2,
          "--cell", 1.0, "-o", tmp_path / "e.svg")
     V, F = fabsynth.io.read_mesh(mesh)
     r = vp.make_pattern(vp.exemplar_from_svg(disks), height=12, surface=(V, F), points=np.loadtxt(tmp_path / "egg.csv", delimiter=","),

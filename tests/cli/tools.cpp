@@ -4,7 +4,9 @@
 // Tools run as child processes (stdout and stderr to files, stdin closed).
 #include <cstdio>
 #include <catch2/catch.hpp>
+#include <fabsynth/geometry/hausdorff.hpp>
 #include <fabsynth/geometry/mesh_topology.hpp>
+#include <fabsynth/geometry/self_intersection.hpp>
 #include <fabsynth/io/image.hpp>
 #include <fabsynth/io/mesh.hpp>
 #include <fabsynth/io/vtk.hpp>
@@ -71,6 +73,45 @@ TEST_CASE("voxelize follows the tool convention", "[cli][voxelize]") {
     const result quiet = run("voxelize", {(data_dir / "meshes/bunny_lowres.obj").string(), "-r", "16", "-o", out, "--quiet"});
     CHECK(quiet.code == 0);
     CHECK(quiet.err.empty());
+}
+
+TEST_CASE("written meshes are simplified within --mesh-tolerance, keeping watertightness, components and genus",
+          "[cli][voxelize][simplify]") {
+    // voxelize the kitten (genus 1) at a grid whose voxel staircase simplifies well
+    const std::string mesh = (data_dir / "meshes/kitten_lowres.obj").string();
+    const std::string raw_dir = (work_dir / "simplify_raw").string(), small_dir = (work_dir / "simplify_small").string();
+    fs::remove_all(raw_dir), fs::remove_all(small_dir);
+    const result raw = run("voxelize", {mesh, "-r", "48", "--no-simplify", "-o", raw_dir, "--json"});
+    REQUIRE(raw.code == 0);
+    const result small = run("voxelize", {mesh, "-r", "48", "-o", small_dir, "--json"});
+    REQUIRE(small.code == 0);
+    const json jr = json::parse(raw.out), js = json::parse(small.out);
+    const json& mr = jr.at("meshes").at(0);
+    const json& ms = js.at("meshes").at(0);
+    CHECK(mr.at("simplified") == false);
+    CHECK(mr.at("raw_triangles") == mr.at("triangles"));
+    CHECK(ms.at("file") == "solid.stl");
+    REQUIRE(ms.at("simplified") == true);
+    const double voxel = js.at("voxel_mm").get<double>(), tol = ms.at("tolerance_mm").get<double>();
+    CHECK(tol == Approx(0.5 * voxel));  // the default: half a voxel
+
+    const fabsynth::triangle_mesh a = fabsynth::io::read_mesh(fs::path(raw_dir) / "solid.stl"), b = fabsynth::io::read_mesh(fs::path(small_dir) / "solid.stl");
+    CHECK(ms.at("raw_triangles").get<std::size_t>() == a.faces.size());
+    CHECK(ms.at("triangles").get<std::size_t>() == b.faces.size());
+    CHECK(b.faces.size() * 3 < a.faces.size());
+    const fabsynth::mesh_topology_info ta = fabsynth::analyze_topology(a), tb = fabsynth::analyze_topology(b);
+    CHECK(tb.is_watertight());
+    CHECK(tb.components == ta.components);
+    CHECK(tb.genus == ta.genus);
+    CHECK(tb.genus == 1);
+    CHECK(fabsynth::find_self_intersections(b).pairs == 0);
+    // the distance, measured here on the files (float coordinates), within the stated tolerance
+    const fabsynth::hausdorff_interval h = fabsynth::hausdorff_distance(a, b, {.precision = tol / 8, .stop_below = tol});
+    CHECK(h.upper <= tol * (1 + 1e-4));
+    CHECK(ms.at("hausdorff_mm").get<double>() <= tol);
+    CHECK(h.lower <= ms.at("hausdorff_mm").get<double>() + 1e-4 * tol);
+
+    check_case("voxelize", {"zero tolerance", {mesh, "-r", "16", "--mesh-tolerance", "0", "-o", small_dir}, 2, "--mesh-tolerance"});
 }
 
 TEST_CASE("fem_solve follows the tool convention", "[cli][fem_solve]") {
@@ -477,6 +518,7 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
     auto without_times = [](json r) {
         r.erase("timings");
         for (auto& l : r.at("levels")) l.erase("seconds"), l.erase("candidates_per_second");
+        for (auto& m : r.at("meshes")) m.erase("seconds");
         return r;
     };
     CHECK(without_times(json::parse(slurp(fs::path(out) / "report.json"))) == without_times(report));

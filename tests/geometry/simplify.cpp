@@ -70,8 +70,12 @@ TEST_CASE("self-intersections: none on closed published meshes and level sets, f
     const triangle_mesh cube = bundled_mesh("cube.obj");
     const vec3 size = bounding_box(cube).size();
     CHECK(find_self_intersections(append(cube, translated(cube, vec3(1.5 * size.x, 0, 0)))).pairs == 0);
-    const auto crossing = find_self_intersections(append(cube, translated(cube, vec3(size.x / 3, size.y / 3, size.z / 3))));
+    std::vector<std::array<std::uint32_t, 2>> pairs;
+    const auto crossing = find_self_intersections(append(cube, translated(cube, vec3(size.x / 3, size.y / 3, size.z / 3))), &pairs);
     CHECK(crossing.pairs > 0);
+    CHECK(pairs.size() == crossing.pairs);
+    CHECK((!pairs.empty() && pairs.front() == crossing.first));
+    CHECK(std::all_of(pairs.begin(), pairs.end(), [&](const auto& p) { return p[0] < cube.faces.size() && p[1] >= cube.faces.size(); }));
     CHECK(crossing.first[0] < cube.faces.size());   // one face of each cube
     CHECK(crossing.first[1] >= cube.faces.size());
 
@@ -189,6 +193,12 @@ TEST_CASE("simplify_mesh: a flat-sided cube collapses to few faces; bad options 
     triangle_mesh broken = raw;
     broken.faces[0][0] = static_cast<std::uint32_t>(raw.vertices.size());
     CHECK_THROWS_AS(simplify_mesh(broken, {.tolerance = 0.1}), invalid_input);
+    // a mesh that already crosses itself comes back as it is, saying so
+    const triangle_mesh crossed = append(raw, translated(raw, vec3(2, 1, 1)));
+    simplify_report xr;
+    CHECK(simplify_mesh(crossed, {.tolerance = 0.05}, &xr) == crossed);
+    CHECK_FALSE(xr.simplified);
+    CHECK(xr.warning.find("self-intersecting") != std::string::npos);
     // nothing to do: an empty mesh comes back with a warning
     simplify_report empty;
     CHECK(simplify_mesh(triangle_mesh{}, {.tolerance = 0.1}, &empty).faces.empty());

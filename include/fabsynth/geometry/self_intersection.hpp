@@ -146,8 +146,11 @@ inline bool faces_intersect(const std::vector<ipoint>& V, const std::array<std::
 }  // namespace detail::selfx
 
 /// Counts the improperly intersecting face pairs of m (see the file comment) and names the
-/// smallest. Throws invalid_input for non-finite vertices or faces indexing missing vertices.
-[[nodiscard]] inline self_intersection_report find_self_intersections(const triangle_mesh& m) {
+/// smallest; `pairs` (optional) receives every pair (f < g), sorted. Throws invalid_input for
+/// non-finite vertices or faces indexing missing vertices.
+[[nodiscard]] inline self_intersection_report find_self_intersections(const triangle_mesh& m,
+                                                                      std::vector<std::array<std::uint32_t, 2>>* pairs = nullptr) {
+    if (pairs) pairs->clear();
     validate(m, "self-intersection input mesh");
     self_intersection_report out;
     const std::size_t F = m.faces.size();
@@ -194,13 +197,14 @@ inline bool faces_intersect(const std::vector<ipoint>& V, const std::array<std::
     struct partial {
         std::size_t pairs = 0;
         std::array<std::uint32_t, 2> first{UINT32_MAX, UINT32_MAX};
+        std::vector<std::array<std::uint32_t, 2>> list;  // filled only when asked for
     };
     // the integer grid of the predicates: coordinates in [0, 2^30] (see the file comment)
     const double grid = std::ldexp(1.0, 30) / std::max({ext.x, ext.y, ext.z, 1e-300});
     std::vector<detail::selfx::ipoint> V(m.vertices.size());
     for (std::size_t v = 0; v < V.size(); ++v)
         V[v] = detail::selfx::ipoint(glm::round((m.vertices[v] - all.lo) * grid));
-    const partial total = parallel_reduce(
+    partial total = parallel_reduce(
         std::size_t{0}, cells, partial{},
         [&](std::size_t c) {
             partial p;
@@ -214,17 +218,23 @@ inline bool faces_intersect(const std::vector<ipoint>& V, const std::array<std::
                     if (!detail::selfx::faces_intersect(V, m.faces[f], m.faces[g])) continue;
                     ++p.pairs;
                     p.first = std::min(p.first, std::array<std::uint32_t, 2>{f, g});
+                    if (pairs) p.list.push_back({f, g});
                 }
             return p;
         },
         [](partial a, const partial& b) {
             a.pairs += b.pairs;
             a.first = std::min(a.first, b.first);
+            a.list.insert(a.list.end(), b.list.begin(), b.list.end());
             return a;
         },
         {.grain = 256});
     out.pairs = total.pairs;
     if (total.pairs) out.first = total.first;
+    if (pairs) {
+        *pairs = total.list;
+        std::sort(pairs->begin(), pairs->end());
+    }
     return out;
 }
 

@@ -16,7 +16,8 @@
 /// - change the topology: the edge's end points must share exactly the two vertices opposite it
 ///   (the link condition of Dey, Edelsbrunner, Guha & Nekhayev, 1999), those two keep degree >= 3,
 ///   and vertices on boundary or non-manifold edges never move;
-/// - flip or flatten a face: each moved face keeps its normal within 60 degrees and a non-zero area.
+/// - flip or flatten a face: each moved face keeps its normal within 60 degrees and a non-zero area;
+/// - give v more than 24 neighbours (fans of slivers).
 ///
 /// Written here, not taken from Debian's meshoptimizer (0.18): on marching-cube level sets its
 /// simplifier left fins (coincident opposite faces) and, in flat regions, overlapping flipped
@@ -28,15 +29,17 @@
 /// - no self-intersection (self_intersection.hpp);
 /// - the two-sided Hausdorff distance to the input at most `tolerance`, certified by an upper
 ///   bound (hausdorff.hpp).
-/// A rejected result is retried with a smaller target (scaled by the measured distance), up to
-/// `attempts` times; when none passes, the input is returned unchanged and the report says why.
+/// A result with self-intersections is run again with every input vertex that went into the
+/// corners of the crossing faces held in place (so the input stays as it was there); any other
+/// rejection is retried with a smaller target (scaled by the measured distance). Up to `attempts`
+/// runs; when none passes, the input is returned unchanged and the report says why. An input that
+/// intersects itself is returned unchanged at once.
 ///
 /// Deterministic: the collapse order is fixed by (cost, vertex id), and the checks do not depend
 /// on the thread count. Time O(F log F) for the collapses plus the checks (hausdorff.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <queue>
 #include <string>
 #include <vector>
 
@@ -107,8 +110,11 @@ struct quadric {
 // Half-edge collapse decimation (see the file comment) down to quadric cost `target` (mm).
 class collapser {
 public:
-    explicit collapser(const triangle_mesh& m) : m_(m), P_(m.vertices.size()), faces_(m.faces), alive_(m.faces.size(), 1),
+    /// `keep`: optional flags per vertex of m that must not move (empty: none).
+    explicit collapser(const triangle_mesh& m, const std::vector<std::uint8_t>& keep = {}) : m_(m), P_(m.vertices.size()), faces_(m.faces), alive_(m.faces.size(), 1),
                                                    vf_(m.vertices.size()), q_(m.vertices.size()), locked_(m.vertices.size(), 0) {
+        for (std::size_t v = 0; v < keep.size() && v < locked_.size(); ++v) locked_[v] |= keep[v];
+        mark_.assign(m.vertices.size(), 0);
         // positions relative to the box centre: quadric costs without cancellation
         centre_ = bounding_box(m).center();
         for (std::size_t v = 0; v < P_.size(); ++v) P_[v] = m.vertices[v] - centre_;
@@ -148,29 +154,38 @@ public:
     // Collapses while the cheapest allowed collapse costs at most target; returns the mesh.
     triangle_mesh run(double target) {
         const double limit2 = target * target;
-        version_.assign(P_.size(), 0);
+        cost_.assign(P_.size(), 0.0);
+        into_.resize(P_.size());
+        for (std::uint32_t v = 0; v < P_.size(); ++v) into_[v] = v;
+        to_.assign(P_.size(), UINT32_MAX);
+        pos_.assign(P_.size(), UINT32_MAX);
         for (std::uint32_t v = 0; v < P_.size(); ++v) push(v, limit2);
         while (!heap_.empty()) {
-            const entry e = heap_.top();
-            heap_.pop();
-            if (e.version != version_[e.u] || removed(e.u)) continue;
-            if (!allowed(e.u, e.v)) {
-                push_allowed(e.u, e.cost, limit2);  // the next cheapest neighbour that passes, if any
+            const std::uint32_t u = heap_[0], v = to_[u];
+            const double c = cost_[u];
+            heap_remove(u);
+            if (!allowed(u, v)) {
+                push_allowed(u, c, limit2);  // the next cheapest neighbour that passes, if any
                 continue;
             }
-            collapse(e.u, e.v);
+            collapse(u, v);
             // everything around v gets new costs
-            neighbours(e.v, ring_);
-            push(e.v, limit2);
+            neighbours(v, ring_);
+            push(v, limit2);
             for (auto w : ring_) push(w, limit2);
         }
         triangle_mesh out;
         std::vector<std::uint32_t> id(P_.size(), UINT32_MAX);
+        source_.clear();
         for (std::uint32_t f = 0; f < faces_.size(); ++f) {
             if (!alive_[f]) continue;
             auto t = faces_[f];
             for (std::uint32_t& v : t) {
-                if (id[v] == UINT32_MAX) id[v] = static_cast<std::uint32_t>(out.vertices.size()), out.vertices.push_back(m_.vertices[v]);
+                if (id[v] == UINT32_MAX) {
+                    id[v] = static_cast<std::uint32_t>(out.vertices.size());
+                    out.vertices.push_back(m_.vertices[v]);
+                    source_.push_back(v);
+                }
                 v = id[v];
             }
             out.faces.push_back(t);
@@ -178,34 +193,83 @@ public:
         return out;
     }
 
+    /// After run(): the input vertex of each output vertex.
+    [[nodiscard]] const std::vector<std::uint32_t>& source() const noexcept { return source_; }
+    /// After run(): the input vertex each input vertex was finally collapsed onto (itself if kept).
+    [[nodiscard]] std::uint32_t representative(std::uint32_t v) const {
+        while (into_[v] != v) v = into_[v];
+        return v;
+    }
+
 private:
-    struct entry {
-        double cost;
-        std::uint32_t u, v, version;
-        bool operator<(const entry& o) const { return cost != o.cost ? cost > o.cost : u > o.u; }  // min-heap on (cost, u)
-    };
+    // Indexed binary min-heap of vertices on (cost_, id): one entry per vertex, updated in place.
+    bool before(std::uint32_t a, std::uint32_t b) const { return cost_[a] != cost_[b] ? cost_[a] < cost_[b] : a < b; }
+    void place(std::size_t i, std::uint32_t v) {
+        heap_[i] = v;
+        pos_[v] = static_cast<std::uint32_t>(i);
+    }
+    void sift_up(std::size_t i) {
+        const std::uint32_t v = heap_[i];
+        while (i > 0 && before(v, heap_[(i - 1) / 2])) place(i, heap_[(i - 1) / 2]), i = (i - 1) / 2;
+        place(i, v);
+    }
+    void sift_down(std::size_t i) {
+        const std::uint32_t v = heap_[i];
+        for (;;) {
+            std::size_t c = 2 * i + 1;
+            if (c >= heap_.size()) break;
+            if (c + 1 < heap_.size() && before(heap_[c + 1], heap_[c])) ++c;
+            if (!before(heap_[c], v)) break;
+            place(i, heap_[c]);
+            i = c;
+        }
+        place(i, v);
+    }
+    void heap_set(std::uint32_t u, double cost, std::uint32_t to) {
+        cost_[u] = cost;
+        to_[u] = to;
+        if (pos_[u] == UINT32_MAX) {
+            heap_.push_back(u);
+            pos_[u] = static_cast<std::uint32_t>(heap_.size() - 1);
+            sift_up(heap_.size() - 1);
+        } else {
+            sift_up(pos_[u]);
+            sift_down(pos_[u]);
+        }
+    }
+    void heap_remove(std::uint32_t u) {
+        const std::uint32_t i = pos_[u];
+        if (i == UINT32_MAX) return;
+        pos_[u] = UINT32_MAX;
+        const std::uint32_t last = heap_.back();
+        heap_.pop_back();
+        if (last == u) return;
+        place(i, last);
+        sift_up(i);
+        sift_down(pos_[last]);
+    }
 
     bool removed(std::uint32_t v) const { return dead_.size() > v && dead_[v]; }
 
-    // Distinct live neighbours of v, ascending.
+    // Distinct live neighbours of v, in order of first appearance (a stamp per vertex marks those
+    // seen). Drops dead faces from v's list on the way.
     void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) {
         out.clear();
+        if (++stamp_ == 0) std::fill(mark_.begin(), mark_.end(), 0u), stamp_ = 1;
         auto& list = vf_[v];
         std::size_t w = 0;
         for (auto f : list) {
             if (!alive_[f]) continue;
             list[w++] = f;
             for (auto x : faces_[f])
-                if (x != v) out.push_back(x);
+                if (x != v && mark_[x] != stamp_) mark_[x] = stamp_, out.push_back(x);
         }
         list.resize(w);
-        std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
     }
 
     // The cheapest collapse of u onto a neighbour within limit2, pushed onto the heap.
     void push(std::uint32_t u, double limit2) {
-        ++version_[u];
+        heap_remove(u);
         if (locked_[u] || removed(u)) return;
         neighbours(u, tmp_);
         double best = limit2;
@@ -216,13 +280,12 @@ private:
             const double c = std::max(0.0, q(P_[v]));
             if (c <= best && (c < best || to == UINT32_MAX || v < to)) best = c, to = v;
         }
-        if (to != UINT32_MAX) heap_.push({best, u, to, version_[u]});
+        if (to != UINT32_MAX) heap_set(u, best, to);
     }
 
     // After a refused collapse: the cheapest collapse of u costing at least `from` that is allowed
     // now. Later changes around u re-queue it through push().
     void push_allowed(std::uint32_t u, double from, double limit2) {
-        ++version_[u];
         neighbours(u, cand_);
         std::vector<std::pair<double, std::uint32_t>> order;
         for (auto v : cand_) {
@@ -234,14 +297,13 @@ private:
         std::sort(order.begin(), order.end());
         for (const auto& [c, v] : order)
             if (allowed(u, v)) {
-                heap_.push({c, u, v, version_[u]});
+                heap_set(u, c, v);
                 return;
             }
     }
 
     bool allowed(std::uint32_t u, std::uint32_t v) {
         neighbours(u, nu_);
-        neighbours(v, nv_);
         // the edge has two faces, and the ends share exactly their two opposite vertices
         std::size_t common = 0;
         std::uint32_t opposite[2] = {0, 0};
@@ -256,12 +318,11 @@ private:
             }
         }
         if (edge_faces != 2) return false;
-        for (std::size_t i = 0, j = 0; i < nu_.size() && j < nv_.size();) {
-            if (nu_[i] < nv_[j]) ++i;
-            else if (nv_[j] < nu_[i]) ++j;
-            else ++common, ++i, ++j;
-        }
+        neighbours(v, nv_);  // marks v's neighbours with the current stamp
+        for (auto x : nu_) common += mark_[x] == stamp_;
         if (common != 2) return false;
+        // fans of more than max_valence faces make slivers (and slow every later step)
+        if (nu_.size() + nv_.size() - 4 > max_valence) return false;
         for (auto o : opposite) {
             neighbours(o, tmp_);
             if (tmp_.size() < 4) return false;
@@ -295,6 +356,7 @@ private:
         vf_[u].clear();
         vf_[u].shrink_to_fit();
         q_[v] += q_[u];
+        into_[u] = v;
         if (dead_.empty()) dead_.assign(P_.size(), 0);
         dead_[u] = 1;
     }
@@ -307,8 +369,12 @@ private:
     std::vector<std::vector<std::uint32_t>> vf_;
     std::vector<quadric> q_;
     std::vector<std::uint8_t> locked_, dead_;
-    std::vector<std::uint32_t> version_, ring_, tmp_, nu_, nv_, cand_;
-    std::priority_queue<entry> heap_;
+    std::vector<double> cost_;                         // heap key: the vertex's cheapest collapse
+    std::vector<std::uint32_t> to_, pos_, heap_;       // its target; its heap slot (UINT32_MAX: none); the heap
+    std::vector<std::uint32_t> ring_, tmp_, nu_, nv_, cand_, mark_;
+    std::uint32_t stamp_ = 0;
+    static constexpr std::size_t max_valence = 24;
+    std::vector<std::uint32_t> into_, source_;             // collapse targets; input vertex of each output vertex
 };
 
 }  // namespace detail::simplify
@@ -333,6 +399,13 @@ private:
         rep.warning = "empty mesh, nothing to simplify";
         return finish(m);
     }
+    // A mesh that already passes through itself (touching extruded strips, for one) cannot show
+    // that simplification added no crossing: it is returned as it is, before any work.
+    if (const self_intersection_report x = find_self_intersections(m); x.any()) {
+        rep.warning = "mesh written unsimplified: the extracted mesh already has " + std::to_string(x.pairs) +
+                      " self-intersecting face pairs (faces " + std::to_string(x.first[0]) + " and " + std::to_string(x.first[1]) + ")";
+        return finish(m);
+    }
     const mesh_topology_info raw_topology = analyze_topology(m);
     const double precision = opt.precision > 0 ? opt.precision : opt.tolerance / 8;
     const mesh_distance raw_distance(m);
@@ -340,10 +413,12 @@ private:
     // face interiors to the input surface; being a sum over planes it came out 2-5x the Hausdorff
     // distance on level sets. Start at the tolerance; scale down by what the check measures.
     double target = opt.tolerance;
+    std::vector<std::uint8_t> keep;  // input vertices held in place after a self-intersection
     std::string why;
     for (int attempt = 1; attempt <= opt.attempts; ++attempt) {
         rep.attempts = attempt;
-        triangle_mesh c = detail::simplify::collapser(m).run(target);
+        detail::simplify::collapser run(m, keep);
+        triangle_mesh c = run.run(target);
         if (c.faces.size() >= m.faces.size()) {
             why = "the simplifier removed no face";
             break;
@@ -359,9 +434,18 @@ private:
             target /= 2;
             continue;
         }
-        if (const self_intersection_report x = find_self_intersections(c); x.any()) {
+        std::vector<std::array<std::uint32_t, 2>> crossing;
+        if (const self_intersection_report x = find_self_intersections(c, &crossing); x.any()) {
+            // Keep the input as it was where the crossing faces came from: every input vertex
+            // collapsed onto one of their corners stays, and the same target is run again.
             why = std::to_string(x.pairs) + " self-intersecting face pairs";
-            target /= 2;
+            if (keep.empty()) keep.assign(m.vertices.size(), 0);
+            std::vector<std::uint8_t> corner(m.vertices.size(), 0);
+            for (const auto& pair : crossing)
+                for (auto f : pair)
+                    for (auto v : c.faces[f]) corner[run.source()[v]] = 1;
+            for (std::uint32_t v = 0; v < m.vertices.size(); ++v)
+                if (corner[run.representative(v)]) keep[v] = 1;
             continue;
         }
         // the input's vertices first (cheap, and most failures show there), then the bound

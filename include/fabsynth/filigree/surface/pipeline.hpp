@@ -126,6 +126,7 @@ struct surface_filigree {
     surface_reinforcement_result reinforcement;  ///< the final layout, M_b (baked, largest piece) and thickness after §5
     triangle_mesh solid;                         ///< printable: every point within half the thickness of M_b (eq. 9), watertight
     std::size_t solid_components = 0;            ///< connected pieces of `solid`
+    double solid_cell = 0;                       ///< grid spacing `solid` was extracted at, mm
     image8 preview;                              ///< RGB, two 800 x 800 views: the base mesh with the solid, from the side and the opposite side
     image8 histogram;                            ///< Fig. 21: nodal stress before and after §5 (RGB; empty without analysis)
     image8 stress_map;                           ///< Fig. 10: surface_stress_map of the final analysis (RGB, as the preview; empty without analysis)
@@ -223,6 +224,7 @@ template <progress_callback P = no_progress>
     surface_offset_options oo;
     // default: the surface_offset guideline (cell <= tau / 4) at a third: the strips are wider than thick
     oo.cell = opt.solid_cell > 0 ? opt.solid_cell : r.reinforcement.thickness / 3;
+    r.solid_cell = oo.cell;
     r.solid = thicken_surface(r.reinforcement.baked, r.reinforcement.thickness, oo);
     weld_to_float(r.solid);  // what STL and 3MF store; checked below as written
     const mesh_topology_info topo = analyze_topology(r.solid);
