@@ -54,7 +54,7 @@ namespace fabsynth {
 /// Options of simplify_mesh.
 struct simplify_options {
     double tolerance = 0.05;  ///< mm, > 0: the largest two-sided Hausdorff distance to the input
-    int attempts = 4;         ///< >= 1: simplifier runs, each with half the previous error target
+    int attempts = 4;         ///< >= 1: decimation runs at most (see the file comment for what changes between them)
     double precision = 0.0;   ///< mm, the Hausdorff bound's precision where it exceeds the tolerance; 0 = tolerance / 8
 };
 
