@@ -407,6 +407,9 @@ private:
         return finish(m);
     }
     const mesh_topology_info raw_topology = analyze_topology(m);
+    std::vector<std::uint8_t> used(m.vertices.size(), 0);  // vertices no face uses have no distance to keep
+    for (const auto& t : m.faces)
+        for (auto v : t) used[v] = 1;
     const double precision = opt.precision > 0 ? opt.precision : opt.tolerance / 8;
     const mesh_distance raw_distance(m);
     // The quadric cost bounds each vertex's distance to the merged planes, not the distance of
@@ -451,7 +454,8 @@ private:
         // the input's vertices first (cheap, and most failures show there), then the bound
         const mesh_distance to_candidate(c);
         const double vertex_distance = parallel_reduce(
-            std::size_t{0}, m.vertices.size(), 0.0, [&](std::size_t v) { return std::sqrt(to_candidate.closest(m.vertices[v]).dist2); },
+            std::size_t{0}, m.vertices.size(), 0.0,
+            [&](std::size_t v) { return used[v] ? std::sqrt(to_candidate.closest(m.vertices[v]).dist2) : 0.0; },
             [](double a, double b) { return std::max(a, b); });
         if (vertex_distance > opt.tolerance) {
             why = "an input vertex " + std::to_string(vertex_distance) + " mm from the result, over the tolerance";
