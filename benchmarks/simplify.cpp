@@ -40,20 +40,20 @@ const triangle_mesh& level_set() {
 void BM_SimplifyDecimation(benchmark::State& state) {
     const triangle_mesh& m = level_set();
     std::size_t faces = 0;
-    for (auto _ : state) faces = detail::simplify::collapser(m).run(tolerance).faces.size();
+    for (auto _ : state) faces = detail::simplify::collapser(m).run(detail::simplify::cost_limit * tolerance, detail::simplify::tracked_bound * tolerance).faces.size();
     state.counters["raw_triangles"] = static_cast<double>(m.faces.size());
     state.counters["triangles"] = static_cast<double>(faces);
 }
 BENCHMARK(BM_SimplifyDecimation)->Unit(benchmark::kSecond)->Iterations(1);
 
 void BM_SimplifyCheckSelfIntersections(benchmark::State& state) {
-    const triangle_mesh s = detail::simplify::collapser(level_set()).run(tolerance);
+    const triangle_mesh s = detail::simplify::collapser(level_set()).run(detail::simplify::cost_limit * tolerance, detail::simplify::tracked_bound * tolerance);
     for (auto _ : state) benchmark::DoNotOptimize(find_self_intersections(s).pairs);
 }
 BENCHMARK(BM_SimplifyCheckSelfIntersections)->Unit(benchmark::kSecond)->Iterations(1);
 
 void BM_SimplifyCheckHausdorff(benchmark::State& state) {
-    const triangle_mesh s = detail::simplify::collapser(level_set()).run(tolerance);
+    const triangle_mesh s = detail::simplify::collapser(level_set()).run(detail::simplify::cost_limit * tolerance, detail::simplify::tracked_bound * tolerance);
     hausdorff_interval h;
     for (auto _ : state)
         h = hausdorff_distance(level_set(), s, {.precision = tolerance / 8, .stop_below = tolerance, .abort_above = tolerance});

@@ -36,7 +36,10 @@
 /// 4. mesh_voxels: marching tetrahedra (geometry/marching_cubes.hpp) of the occupancy sampled at
 ///    voxel centres (-1 solid, +1 empty, iso 0, so every vertex lies half-way between a solid and
 ///    an empty centre and the surface separates them exactly), then Taubin lambda|mu smoothing
-///    (geometry/smooth.hpp), which keeps the faces and therefore watertightness.
+///    with every vertex held on its grid edge within half a voxel of where it started
+///    (taubin_smooth_on_grid_edges, geometry/smooth.hpp): the voxel staircase is smoothed, while
+///    the faces, the topology, the separation of solid from empty centres and the absence of
+///    self-intersections are kept exactly, and the mesh stays within half a voxel of the voxels.
 ///
 /// Connectivity of the mesh: the Freudenthal split joins two solid voxel centres through the solid
 /// iff their offset is, up to sign, in {0,1}^3 \ {0} (face neighbours, the three "positive"
@@ -545,8 +548,9 @@ inline std::size_t join_diagonal_contacts(voxel_set& s) {
 
 /// Watertight mesh of a voxel set (see the file comment, stage 4): marching tetrahedra of the
 /// occupancy at voxel centres over the set's bounding box plus one voxel on every side, followed
-/// by Taubin smoothing with `smoothing` (iterations 0 = the unsmoothed surface, whose vertices lie
-/// half-way between solid and empty centres). Triangles face outward. An empty set gives an empty
+/// by Taubin smoothing with `smoothing` held on the grid edges within half a voxel
+/// (iterations 0 = the unsmoothed surface, whose vertices lie half-way between solid and empty
+/// centres). Triangles face outward. An empty set gives an empty
 /// mesh. Throws invalid_input for an invalid set or smoothing options. Time O(bounding box voxels
 /// + output * iterations), memory O(|s| + grid / 512 + bounding-box slice + output).
 [[nodiscard]] inline triangle_mesh mesh_voxels(const voxel_set& s, const taubin_options& smoothing) {
@@ -563,7 +567,7 @@ inline std::size_t join_diagonal_contacts(voxel_set& s) {
     const ivec3 base = lo - 1;
     auto occupancy = [&](ivec3 p) { return mask.contains(base + p) ? -1.0 : 1.0; };
     triangle_mesh m = marching_cubes(occupancy, hi - lo + 3, s.geometry.center(base), s.geometry.spacing, 0.0);
-    taubin_smooth(m, smoothing);
+    taubin_smooth_on_grid_edges(m, s.geometry.center(base), s.geometry.spacing, smoothing);
     return m;
 }
 
