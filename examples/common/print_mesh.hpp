@@ -13,9 +13,11 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <fabsynth/geometry/simplify.hpp>
 
@@ -44,7 +46,8 @@ public:
     /// The mesh to write for `raw`, named `file` in the messages: simplified unless --no-simplify;
     /// prints a line, warns when the raw mesh is kept, and adds {"file", "raw_triangles",
     /// "triangles", "simplified", "tolerance_mm", "hausdorff_mm" (certified bound),
-    /// "hausdorff_measured_mm", "seconds"} to the JSON summary's "meshes" list.
+    /// "hausdorff_measured_mm", "runs" (decimation passes, 0 with --no-simplify), "seconds"} to
+    /// the JSON summary's "meshes" list.
     [[nodiscard]] triangle_mesh operator()(const triangle_mesh& raw, common& c, const std::string& file) {
         simplify_report rep;
         rep.raw_faces = rep.faces = raw.faces.size();
@@ -55,8 +58,8 @@ public:
         if (!off_ && !rep.simplified) c.warn(file + ": " + rep.warning);
         char line[256];
         if (rep.simplified)
-            std::snprintf(line, sizeof line, "%s: %zu -> %zu triangles, Hausdorff %.3g mm (bound %.3g, tolerance %.3g), %.2f s", file.c_str(),
-                          rep.raw_faces, rep.faces, rep.hausdorff.lower, rep.hausdorff.upper, tolerance_, seconds);
+            std::snprintf(line, sizeof line, "%s: %zu -> %zu triangles, Hausdorff %.3g mm (bound %.3g, tolerance %.3g), %d run%s, %.2f s", file.c_str(),
+                          rep.raw_faces, rep.faces, rep.hausdorff.lower, rep.hausdorff.upper, tolerance_, rep.attempts, rep.attempts == 1 ? "" : "s", seconds);
         else
             std::snprintf(line, sizeof line, "%s: %zu triangles, not simplified", file.c_str(), rep.raw_faces);
         if (!c.quiet()) c.say(line);
@@ -67,8 +70,25 @@ public:
                            {"tolerance_mm", off_ ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(tolerance_)},
                            {"hausdorff_mm", rep.hausdorff.upper},
                            {"hausdorff_measured_mm", rep.hausdorff.lower},
+                           {"runs", rep.attempts},
                            {"seconds", seconds}});
         c.summary({{"meshes", meshes_}});
+        source_ = std::move(rep.source);
+        return out;
+    }
+
+    /// Colour of each face of the mesh the last call returned, from `raw_colours` (one per vertex
+    /// of the raw mesh it was given): the colour two or three corners share, else corner 0's.
+    [[nodiscard]] std::vector<std::array<std::uint8_t, 3>> face_colours(const triangle_mesh& written,
+                                                                      const std::vector<std::array<std::uint8_t, 3>>& raw_colours) const {
+        std::vector<std::array<std::uint8_t, 3>> out;
+        if (raw_colours.empty()) return out;
+        out.reserve(written.faces.size());
+        const auto colour = [&](std::uint32_t v) { return raw_colours.at(source_.empty() ? v : source_.at(v)); };
+        for (const auto& t : written.faces) {
+            const auto a = colour(t[0]), b = colour(t[1]), c = colour(t[2]);
+            out.push_back(b == c ? b : a);
+        }
         return out;
     }
 
@@ -80,6 +100,7 @@ private:
     double tolerance_;
     bool off_ = false;
     nlohmann::ordered_json meshes_ = nlohmann::ordered_json::array();
+    std::vector<std::uint32_t> source_;  // of the last call: raw vertex of each written vertex (empty: the same mesh)
 };
 
 }  // namespace fabsynth::tool

@@ -11,7 +11,8 @@
 // thickened inward and meshed. Writes
 //   OUTDIR/pattern.stl   watertight, smoothed mesh of the thickened solid voxels, simplified within
 //                        --mesh-tolerance (default half a voxel; --no-simplify: as extracted)
-//   OUTDIR/pattern.3mf   the same mesh as 3MF, in millimetres (where lib3mf is available)
+//   OUTDIR/pattern.3mf   the same mesh as 3MF, in millimetres, with per-triangle colours: the exemplar's, or
+//                        blue reinforcement and green enlarged thin features (where lib3mf is available)
 //   OUTDIR/shell.vtk     CELL_DATA `state` (unsigned char): 0 not in the shell, 1 shell voxel carved
 //                        empty, 2 solid from the exemplar, 3 reinforcement (made solid by a bridge
 //                        of §5.2 where the pattern was empty), 4 thin feature enlarged (§6.2.1)
@@ -127,7 +128,7 @@ int main(int argc, char** argv) {
     std::string mesh_path, mask_path, colour_path, out_dir, material_name = "abs";
     double size = 0, thickness = 0, feature = 0, scale = 0, jitter = 0.1, min_feature = -1, max_memory_gib = 16;
     double geodesic = 1.5, design_load = 0, load_factor = 20, safety_factor = 2, bridge_radius = 0, bridge_band = 0.25;
-    int resolution = 256, levels = 0, passes = 2, candidates = 128, smoothing = 20, max_iterations = 30, preview_size = 768;
+    int resolution = 256, levels = 0, passes = 2, candidates = 128, smoothing = 50, max_iterations = 30, preview_size = 768;
     std::size_t samples = 1000;
     std::vector<double> up{0, 0, 1}, gravity{0, 0, -1}, support_plane;
     double support_band = -1;
@@ -149,7 +150,7 @@ int main(int argc, char** argv) {
     app.add_option("--candidates", candidates, "candidates per voxel (coherent + random)")->check(CLI::Range(1, 4096));
     app.add_option("--seed", seed, "random seed");
     app.add_option("--min-feature", min_feature, "smallest printable feature (mm): smaller solid pieces are removed, thinner features enlarged (default: the thickness)");
-    app.add_option("--smoothing", smoothing, "Taubin smoothing iterations of pattern.stl")->check(CLI::Range(0, 200));
+    app.add_option("--smoothing", smoothing, "Taubin smoothing iterations of pattern.stl (each vertex stays within half a voxel of the voxel surface)")->check(CLI::Range(0, 200));
     tool::mesh_simplification simplify(app, 0, "half a voxel");
     app.add_flag("--no-tiling", no_tiling, "the exemplar does not tile: penalise lookups near its border (§6.1)");
     app.add_option("--gravity", gravity, "force profile: gravity direction; the lowest 10% along it are the supports")->expected(3);
@@ -285,7 +286,8 @@ int main(int argc, char** argv) {
         const triangle_mesh pattern = simplify(res.mesh, common, "pattern.stl");
         io::write_mesh(stl_file, pattern);
 #if defined(FABSYNTH_HAS_LIB3MF)
-        io::write_3mf(threemf_file, pattern, {.name = "pattern"});  // the same mesh, in millimetres
+        // the same mesh, in millimetres, each triangle in the exemplar's (or the reinforcement's) colour
+        io::write_3mf(threemf_file, pattern, {.name = "pattern", .face_colours = simplify.face_colours(pattern, res.vertex_colours)});
 #endif
         io::write_png(preview_file, res.preview);
         const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-from . import distributed as distributed, fem as fem, filigree as filigree, foam as foam, io as io, surface_pattern as surface_pattern, vector_pattern as vector_pattern
+from . import distributed as distributed, fem as fem, filigree as filigree, foam as foam, geometry as geometry, io as io, surface_pattern as surface_pattern, vector_pattern as vector_pattern
 
 __version__: str
 

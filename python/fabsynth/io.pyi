@@ -12,10 +12,10 @@ def read_mesh(path: Path) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64
     """(V n x 3 float64, F m x 3 int64) of an .obj, .stl or .ply file."""
 def write_mesh(path: Path, V: npt.ArrayLike, F: npt.ArrayLike) -> None:
     """Writes (V, F) as .obj, .stl or .ply by extension, atomically."""
-def write_3mf(path: Path, V: npt.ArrayLike, F: npt.ArrayLike, name: str = ...) -> None:
-    """Writes (V, F) (mm) as 3MF (only when has_3mf)."""
-def read_3mf(path: Path) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
-    """(V, F) in mm of a 3MF file (only when has_3mf)."""
+def write_3mf(path: Path, V: npt.ArrayLike, F: npt.ArrayLike, name: str = ..., face_colours: Optional[npt.NDArray[np.uint8]] = None) -> None:
+    """Writes (V, F) (mm) as 3MF (only when has_3mf); face_colours: m x 3 uint8 sRGB per face."""
+def read_3mf(path: Path, colours: bool = False) -> Any:
+    """(V, F) in mm of a 3MF file (only when has_3mf); colours=True: (V, F, C) with C m x 4 uint8 RGBA per face (alpha 0: none)."""
 def read_png(path: Path) -> npt.NDArray[np.uint8]:
     """uint8 (h, w) or (h, w, c); row 0 is the top row."""
 def read_png_info(path: Path) -> dict[str, Any]:

@@ -15,6 +15,7 @@ class Exemplar:
 
 class PatternResult:
     mesh: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]  # watertight solid, mm
+    vertex_colours: npt.NDArray[np.uint8] # (n, 3) sRGB per vertex of mesh
     preview: npt.NDArray[np.uint8]        # (h, w, 3): two views
     grid: dict[str, tuple[float, float, float]]  # dims, origin (mm), spacing (mm)
     shell_voxels: npt.NDArray[np.int32]   # n x 3 voxel indices
@@ -26,7 +27,7 @@ def make_exemplar(mask: npt.NDArray[np.uint8], colour: Optional[npt.NDArray[np.u
                   tileable: bool = True, feature_weight: float = 1.0, colour_weight: float = 1.0) -> Exemplar:
     """An exemplar from a mask (white = solid) and an optional colour picture; feature_px: r_pattern in pixels."""
 def make_pattern(V: npt.ArrayLike, F: npt.ArrayLike, exemplar: Exemplar, *, size_mm: float, thickness_mm: float,
-                 resolution: int = 256, levels: int = 0, min_feature_mm: float = -1.0, smoothing: int = 20,
+                 resolution: int = 256, levels: int = 0, min_feature_mm: float = -1.0, smoothing: int = 50,
                  mm_per_px: float = 0.0, candidates: int = 128, jitter: float = 0.1, up: Sequence[float] = (0, 0, 1),
                  passes: int = 2, seed: int = 1, structure: bool = True, max_iterations: int = 30, stages: bool = False,
                  validate: bool = False, preview: bool = True, preview_size: int = 768, max_memory_gb: float = 16.0,

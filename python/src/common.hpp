@@ -189,6 +189,7 @@ auto released(const py::object& progress, F&& f) {
     }
 }
 
+void bind_geometry(py::module_& m);
 void bind_io(py::module_& m);
 void bind_foam(py::module_& m);
 void bind_fem(py::module_& m);

@@ -9,7 +9,10 @@
 #include <fabsynth/io/mesh_3mf.hpp>
 #endif
 
+#include <array>
 #include <filesystem>
+#include <optional>
+#include <vector>
 
 namespace fabsynth::python {
 
@@ -33,20 +36,39 @@ void bind_io(py::module_& m) {
           "Writes (V, F) as .obj (exact decimals), .stl or .ply (binary float32) by extension, atomically\n"
           "(a failed write leaves no half-written file). V: n x 3 float64, F: m x 3 integer indices.");
 #if defined(FABSYNTH_HAS_LIB3MF)
-    m.def("write_3mf", [](const std::filesystem::path& path, const darray& V, const py::array& F, const std::string& name) {
+    m.def("write_3mf", [](const std::filesystem::path& path, const darray& V, const py::array& F, const std::string& name,
+                          const std::optional<py::array>& face_colours) {
         const triangle_mesh mesh = mesh_from(V, F);
+        io::mesh_3mf_options o{.name = name};
+        if (face_colours) {
+            const auto c = u8array::ensure(*face_colours);
+            if (face_colours->dtype().kind() != 'u' || face_colours->itemsize() != 1 || !c || c.ndim() != 2 || c.shape(1) != 3)
+                throw invalid_input("face_colours must be an m x 3 uint8 array (sRGB per face)");
+            o.face_colours.resize(static_cast<std::size_t>(c.shape(0)));
+            for (std::size_t f = 0; f < o.face_colours.size(); ++f)
+                for (std::size_t k = 0; k < 3; ++k) o.face_colours[f][k] = c.data()[3 * f + k];
+        }
         py::gil_scoped_release nogil;
-        io::write_3mf(path, mesh, {.name = name});
-    }, py::arg("path"), py::arg("V"), py::arg("F"), py::arg("name") = "fabsynth mesh",
-          "Writes (V, F) as a 3MF file in millimetres (V in mm); `name` is the object name slicers show.");
-    m.def("read_3mf", [](const std::filesystem::path& path) {
+        io::write_3mf(path, mesh, o);
+    }, py::arg("path"), py::arg("V"), py::arg("F"), py::arg("name") = "fabsynth mesh", py::arg("face_colours") = py::none(),
+          "Writes (V, F) as a 3MF file in millimetres (V in mm); `name` is the object name slicers show;\n"
+          "face_colours: optional m x 3 uint8 sRGB, one per face, written as per-triangle colours.");
+    m.def("read_3mf", [](const std::filesystem::path& path, bool colours) {
         triangle_mesh mesh;
+        std::vector<std::array<std::uint8_t, 4>> rgba;
         {
             py::gil_scoped_release nogil;
-            mesh = io::read_3mf(path);
+            mesh = io::read_3mf(path, colours ? &rgba : nullptr);
         }
-        return mesh_to(mesh);
-    }, py::arg("path"), "(V, F) of a 3MF file's meshes, in mm.");
+        if (!colours) return py::object(mesh_to(mesh));
+        u8array c({static_cast<py::ssize_t>(rgba.size()), py::ssize_t{4}});
+        for (std::size_t f = 0; f < rgba.size(); ++f)
+            for (std::size_t k = 0; k < 4; ++k) c.mutable_data()[4 * f + k] = rgba[f][k];
+        const py::tuple vf = mesh_to(mesh);
+        return py::object(py::make_tuple(vf[0], vf[1], c));
+    }, py::arg("path"), py::arg("colours") = false,
+          "(V, F) of a 3MF file's meshes, in mm; with colours=True (V, F, C), C m x 4 uint8 RGBA per face\n"
+          "(alpha 0 for a face without a colour).");
     m.attr("has_3mf") = true;
 #else
     m.attr("has_3mf") = false;

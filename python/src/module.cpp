@@ -64,6 +64,8 @@ PYBIND11_MODULE(_fabsynth, m) {
           "Results are byte-identical for any thread count.");
     m.def("num_threads", [] { return fabsynth::num_threads(); }, "Number of threads library calls use (>= 1).");
 
+    auto geometry_m = m.def_submodule("geometry", "Meshes: simplification with guarantees, Hausdorff distance.");
+    bind_geometry(geometry_m);
     auto io_m = m.def_submodule("io", "Files: meshes as (V, F), PNG pictures as uint8 arrays with their pixel size, SVG drawings.");
     bind_io(io_m);
     auto foam_m = m.def_submodule("foam", "Procedural Voronoi foams (Martinez, Dumas & Lefebvre 2016): evaluation, slices, seeds, beams.");

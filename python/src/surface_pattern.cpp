@@ -113,6 +113,13 @@ void bind_surface_pattern(py::module_& m) {
     py::class_<sp::pattern_result, std::shared_ptr<sp::pattern_result>>(m, "PatternResult",
         "What make_pattern returns: the printable mesh, the voxels behind it, the preview and the report.")
         .def_property_readonly("mesh", [](const sp::pattern_result& r) { return mesh_to(r.mesh); }, "(V, F) of the watertight, smoothed solid, mm.")
+        .def_property_readonly("vertex_colours", [](const sp::pattern_result& r) {
+            u8array c({static_cast<py::ssize_t>(r.vertex_colours.size()), py::ssize_t{3}});
+            for (std::size_t i = 0; i < r.vertex_colours.size(); ++i)
+                for (std::size_t k = 0; k < 3; ++k) c.mutable_data()[3 * i + k] = r.vertex_colours[i][k];
+            return c;
+        }, "sRGB uint8 (n, 3) per vertex of mesh: the exemplar's colour, blue reinforcement, green enlarged thin features\n"
+           "(0 rows when the exemplar has no colour and structure is off).")
         .def_property_readonly("preview", [](const sp::pattern_result& r) {
             image8 copy = r.preview;
             return image_to(std::move(copy));
@@ -155,7 +162,7 @@ void bind_surface_pattern(py::module_& m) {
         auto r = released(progress, [&](python_progress& p) { return std::make_shared<sp::pattern_result>(sp::make_pattern(mesh, ex, po, p)); });
         return r;
     }, py::arg("V"), py::arg("F"), py::arg("exemplar"), py::kw_only(), py::arg("size_mm"), py::arg("thickness_mm"), py::arg("resolution") = 256,
-          py::arg("levels") = 0, py::arg("min_feature_mm") = -1.0, py::arg("smoothing") = 20, py::arg("mm_per_px") = 0.0, py::arg("candidates") = 128,
+          py::arg("levels") = 0, py::arg("min_feature_mm") = -1.0, py::arg("smoothing") = 50, py::arg("mm_per_px") = 0.0, py::arg("candidates") = 128,
           py::arg("jitter") = 0.1, py::arg("up") = std::vector<double>{0, 0, 1}, py::arg("passes") = 2, py::arg("seed") = 1, py::arg("structure") = true,
           py::arg("max_iterations") = 30, py::arg("stages") = false, py::arg("validate") = false, py::arg("preview") = true, py::arg("preview_size") = 768,
           py::arg("max_memory_gb") = 16.0, py::arg("material") = "abs", py::arg("gravity") = std::vector<double>{0, 0, -1}, py::arg("samples") = 1000,

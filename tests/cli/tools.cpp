@@ -504,6 +504,36 @@ TEST_CASE("surface_patterns follows the tool convention and writes the same file
                 worst = std::max(worst, glm::length(m.vertices[m.faces[f][k]] - stl.vertices[stl.faces[f][k]]));
         CHECK(worst < 1e-4);
     }
+    {  // with the exemplar's colour image, every triangle of the 3MF carries the colour of the pattern there:
+       // on average the colour of the exemplar's solid pixels (red-brown hooks on a light ground)
+        const std::string coloured = (work_dir / "sp_colour").string();
+        fs::remove_all(coloured);
+        const result c = run("surface_patterns", with(args({"--color", (data_dir / "exemplars/hooks_color.png").string(), "--quiet"}), "-o", coloured), 1);
+        INFO(c.err);
+        REQUIRE(c.code == 0);
+        std::vector<std::array<std::uint8_t, 4>> rgba;
+        const fabsynth::triangle_mesh m = fabsynth::io::read_3mf(fs::path(coloured) / "pattern.3mf", &rgba);
+        REQUIRE(rgba.size() == m.faces.size());
+        const fabsynth::image8 col = fabsynth::io::read_png(data_dir / "exemplars/hooks_color.png");
+        const fabsynth::image8 msk = fabsynth::io::read_png(data_dir / "exemplars/hooks.png");
+        double solid_mean[3] = {0, 0, 0}, face_mean[3] = {0, 0, 0};
+        std::size_t solid = 0, uncoloured = 0;
+        for (int y = 0; y < col.height; ++y)
+            for (int x = 0; x < col.width; ++x)
+                if (msk.at(x, y, 0) > 127) {
+                    ++solid;
+                    for (int k = 0; k < 3; ++k) solid_mean[k] += col.at(x, y, k);
+                }
+        for (const auto& c4 : rgba) {
+            uncoloured += c4[3] != 255;
+            for (int k = 0; k < 3; ++k) face_mean[k] += c4[static_cast<std::size_t>(k)];
+        }
+        CHECK(uncoloured == 0);
+        for (int k = 0; k < 3; ++k) {
+            INFO("channel " << k << ": faces " << face_mean[k] / rgba.size() << ", solid exemplar pixels " << solid_mean[k] / solid);
+            CHECK(std::abs(face_mean[k] / rgba.size() - solid_mean[k] / solid) < 40);
+        }
+    }
 #endif
     CHECK(first["shell.vtk"].find("SCALARS state unsigned_char") != std::string::npos);
     CHECK(first["solid.vtk"].find("SCALARS solid unsigned_char") != std::string::npos);

@@ -61,6 +61,36 @@ TEST_CASE("3MF round trip keeps triangles and positions to float / 6-decimal pre
     CHECK(io::format_3mf(spot, {.name = "other"}) != bytes);
 }
 
+TEST_CASE("3MF face colours: written per triangle, read back exactly; none reads as transparent", "[io][3mf]") {
+    const triangle_mesh spot = io::read_mesh(io_test::data("meshes/spot.stl"));
+    std::vector<std::array<std::uint8_t, 3>> colours(spot.num_faces());
+    for (std::size_t f = 0; f < colours.size(); ++f)
+        colours[f] = {static_cast<std::uint8_t>(f), static_cast<std::uint8_t>(f * 7 + 3), static_cast<std::uint8_t>(255 - f % 251)};
+    const auto p = tmp_dir() / "spot_colours.3mf";
+    io::write_3mf(p, spot, {.name = "coloured", .face_colours = colours});
+    std::vector<std::array<std::uint8_t, 4>> rgba;
+    const triangle_mesh back = io::read_3mf(p, &rgba);
+    CHECK(back.faces == spot.faces);
+    REQUIRE(rgba.size() == spot.num_faces());
+    std::size_t wrong = 0;
+    for (std::size_t f = 0; f < rgba.size(); ++f)
+        wrong += rgba[f] != std::array<std::uint8_t, 4>{colours[f][0], colours[f][1], colours[f][2], 255};
+    CHECK(wrong == 0);
+    // the colours are part of the content: other colours, other bytes; the same, the same bytes
+    CHECK(io::format_3mf(spot, {.name = "coloured", .face_colours = colours}) == io_test::slurp(p));
+    colours[5][0] ^= 1;
+    CHECK(io::format_3mf(spot, {.name = "coloured", .face_colours = colours}) != io_test::slurp(p));
+    // a file without colours reads as {0, 0, 0, 0} per face
+    io::write_3mf(p, spot);
+    rgba.clear();
+    (void)io::read_3mf(p, &rgba);
+    CHECK(rgba.size() == spot.num_faces());
+    CHECK(std::all_of(rgba.begin(), rgba.end(), [](const auto& c) { return c == std::array<std::uint8_t, 4>{0, 0, 0, 0}; }));
+    // one colour per face or none
+    colours.pop_back();
+    CHECK_THROWS_AS(io::format_3mf(spot, {.face_colours = colours}), invalid_input);
+}
+
 TEST_CASE("3MF units: coordinates are declared in the given unit and read in mm", "[io][3mf]") {
     triangle_mesh m;
     m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 4}};

@@ -12,7 +12,9 @@
 /// production extension asks for are derived from the content, not drawn at random. The file is
 /// built in memory and written atomically (io/atomic_file.hpp). Refused with
 /// invalid_input: a mesh without faces, non-finite or non-float coordinates, face indices out of
-/// range, triangles that repeat a vertex (3MF forbids them).
+/// range, triangles that repeat a vertex (3MF forbids them), face colours not one per face.
+/// Face colours (mesh_3mf_options::face_colours) are per-triangle colour properties, which
+/// colour-aware slicers show and multi-material printers can use.
 ///
 /// Reading: every build item that refers to a mesh object, with its transform applied, merged
 /// into one triangle_mesh (vertices of item 0 first), in millimetres (converted from the file's
@@ -26,10 +28,12 @@
 ///   fabsynth::io::write_3mf("spot.3mf", mesh);                       // millimetres
 ///   fabsynth::io::write_3mf("spot_in.3mf", inches, {.unit = fabsynth::io::unit_3mf::inch});
 ///   const auto back = fabsynth::io::read_3mf("spot.3mf");
+///   fabsynth::io::write_3mf("red.3mf", mesh, {.face_colours = std::vector(mesh.faces.size(), std::array<std::uint8_t, 3>{200, 30, 30})});
 #if !defined(FABSYNTH_HAS_LIB3MF)
 #error "fabsynth/io/mesh_3mf.hpp needs lib3mf: link the CMake target fabsynth::lib3mf (Debian: lib3mf-dev), which defines FABSYNTH_HAS_LIB3MF"
 #endif
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -58,6 +62,9 @@ struct mesh_3mf_options {
     unit_3mf unit = unit_3mf::millimeter;
     /// Name of the mesh object, shown by slicers.
     std::string name = "fabsynth mesh";
+    /// sRGB colour of each triangle (one per face, in face order), written as per-triangle colour
+    /// properties (3MF core colour groups); empty: no colours.
+    std::vector<std::array<std::uint8_t, 3>> face_colours = {};
 };
 
 /// Millimetres per unit.
@@ -172,6 +179,10 @@ inline std::string format_3mf(const triangle_mesh& m, const mesh_3mf_options& op
         for (float x : v.position) content = hash64(content, std::bit_cast<std::uint32_t>(x));
     for (const auto& t : triangles) content = hash64(content, t.indices[0], t.indices[1], t.indices[2]);
     for (char ch : opt.name) content = hash64(content, static_cast<unsigned char>(ch));
+    if (!opt.face_colours.empty() && opt.face_colours.size() != m.faces.size())
+        throw invalid_input(file + ": " + std::to_string(opt.face_colours.size()) + " face colours for " + std::to_string(m.faces.size()) +
+                            " faces (one per face, or none)");
+    for (const auto& c : opt.face_colours) content = hash64(content, c[0], c[1], c[2]);
 
     namespace l = detail::lib3mf;
     detail::lib3mf_object model, mesh, item, writer;
@@ -185,6 +196,20 @@ inline std::string format_3mf(const triangle_mesh& m, const mesh_3mf_options& op
     check(l::meshobject_setgeometry(mesh.get(), vertices.data(), static_cast<l::dword>(vertices.size()), triangles.data(),
                                     static_cast<l::dword>(triangles.size())),
           mesh.get(), "setting the mesh geometry");
+    if (!opt.face_colours.empty()) {
+        detail::lib3mf_object properties;
+        check(l::meshobject_createpropertyhandler(mesh.get(), properties.out()), mesh.get(), "creating the colour properties");
+        for (std::size_t f = 0; f < opt.face_colours.size(); ++f) {
+            const auto& c = opt.face_colours[f];
+            check(l::propertyhandler_setsinglecolorrgb(properties.get(), static_cast<l::dword>(f), c[0], c[1], c[2]), properties.get(),
+                  "setting a triangle colour");
+        }
+        // 3MF wants an object-level default when triangles carry properties: the first face's colour
+        detail::lib3mf_object fallback;
+        check(l::object_createdefaultpropertyhandler(mesh.get(), fallback.out()), mesh.get(), "creating the default colour");
+        const auto& c0 = opt.face_colours.front();
+        check(l::defaultpropertyhandler_setcolorrgb(fallback.get(), c0[0], c0[1], c0[2]), fallback.get(), "setting the default colour");
+    }
     check(l::object_setuuidutf8(mesh.get(), detail::content_uuid(content, 1).c_str()), mesh.get(), "setting the object UUID");
     check(l::model_addbuilditem(model.get(), mesh.get(), nullptr, item.out()), model.get(), "adding the build item");
     check(l::builditem_setuuidutf8(item.get(), detail::content_uuid(content, 2).c_str()), item.get(), "setting the item UUID");
@@ -206,8 +231,10 @@ inline void write_3mf(const std::filesystem::path& path, const triangle_mesh& m,
 }
 
 /// Parses 3MF bytes into one triangle mesh in millimetres (see file comment); `name` prefixes
-/// error messages.
-inline triangle_mesh parse_3mf(std::string_view bytes, std::string_view name) {
+/// error messages. With `face_rgba`, also the colour of each face (in the order of the result's
+/// faces): sRGB and alpha 255 for a triangle with a colour property (the mean of its corners'
+/// colours when they differ), {0, 0, 0, 0} for one without.
+inline triangle_mesh parse_3mf(std::string_view bytes, std::string_view name, std::vector<std::array<std::uint8_t, 4>>* face_rgba = nullptr) {
     namespace l = detail::lib3mf;
     if (bytes.empty()) throw io_error(name, 0, "file is empty");
     // A 3MF file is a ZIP package: check its first local header and its end-of-central-directory
@@ -272,13 +299,33 @@ inline triangle_mesh parse_3mf(std::string_view bytes, std::string_view name) {
                 throw io_error(name, 0, what + ": triangle " + std::to_string(f) + " has a vertex index out of range");
             out.faces.push_back({base + ix[0], base + ix[1], base + ix[2]});
         }
+        if (face_rgba) {
+            detail::lib3mf_object properties;
+            if (l::meshobject_createpropertyhandler(object.get(), properties.out()) != 0)
+                throw io_error(name, 0, what + ": " + detail::lib3mf_message(object.get(), "reading the triangle properties"));
+            for (l::dword f = 0; f < nt; ++f) {
+                l::dword type = l::property_none;
+                l::triangle_colour c{};
+                std::array<std::uint8_t, 4> rgba{0, 0, 0, 0};
+                if (l::propertyhandler_getpropertytype(properties.get(), f, &type) == 0 && type == l::property_colour &&
+                    l::propertyhandler_getcolor(properties.get(), f, &c) == 0) {
+                    const auto mean = [&](unsigned char l::colour::*channel) {
+                        return static_cast<std::uint8_t>((c.corners[0].*channel + c.corners[1].*channel + c.corners[2].*channel + 1) / 3);
+                    };
+                    rgba = {mean(&l::colour::red), mean(&l::colour::green), mean(&l::colour::blue), 255};
+                }
+                face_rgba->push_back(rgba);
+            }
+        }
     }
     if (item_count == 0) throw io_error(name, 0, "3MF file has no build items");
     if (out.faces.empty()) throw io_error(name, 0, "3MF file has no triangles");
     return out;
 }
 
-/// Reads a 3MF file into one triangle mesh in millimetres (see parse_3mf).
-inline triangle_mesh read_3mf(const std::filesystem::path& path) { return parse_3mf(detail::read_file(path), path.string()); }
+/// Reads a 3MF file into one triangle mesh in millimetres (see parse_3mf, also for `face_rgba`).
+inline triangle_mesh read_3mf(const std::filesystem::path& path, std::vector<std::array<std::uint8_t, 4>>* face_rgba = nullptr) {
+    return parse_3mf(detail::read_file(path), path.string(), face_rgba);
+}
 
 }  // namespace fabsynth::io

@@ -74,7 +74,7 @@ struct pattern_options {
     double thickness_mm = 0;     ///< shell thickness, inward along the normals [mm], >= one voxel (required)
     double min_feature_mm = -1;  ///< smallest printable feature [mm]: smaller solid pieces are removed, thinner
                                  ///< features enlarged to half of it; < 0 = thickness_mm
-    int smoothing = 20;          ///< Taubin smoothing iterations of the mesh, 0..200
+    int smoothing = 50;          ///< Taubin smoothing iterations of the mesh, 0..200, each vertex held on its grid edge within half a voxel (mesh_voxels)
     /// Synthesis (§4): scale mm_per_px (0 = one finest voxel per exemplar pixel), candidates, jitter,
     /// passes, the up direction (0 vector = free rotations), seed.
     synthesis_options synthesis{};
@@ -142,6 +142,10 @@ struct pattern_timings {
 /// What make_pattern returns: the printable mesh, the voxel data behind it and the report figures.
 struct pattern_result {
     triangle_mesh mesh;                ///< watertight, smoothed mesh of `thickened` [mm]
+    /// sRGB colour per vertex of `mesh`: the exemplar's colour there, detail::reinforcement_colour and
+    /// detail::thin_feature_colour where the structure loop added or enlarged (detail::preview_colours);
+    /// empty when the exemplar has no colour image and options.structure is off.
+    std::vector<std::array<std::uint8_t, 3>> vertex_colours;
     image8 preview;                    ///< RGB, two views side by side (empty when options.preview is false)
     grid_geometry grid;                ///< the finest voxel grid [mm]
     std::vector<ivec3> shell_voxels;   ///< shell voxels of the finest level, sorted by grid index
@@ -188,10 +192,13 @@ inline voxel_set printable_voxels(const shell_level& l0, const std::vector<std::
     return thick;
 }
 
+/// Colours of reinforcement and of enlarged thin features, in the preview and the 3MF.
+inline constexpr std::array<std::uint8_t, 3> reinforcement_colour{70, 110, 235}, thin_feature_colour{80, 190, 90};
+
 /// Colour of each mesh vertex: the exemplar colour through the label of the nearest solid shell
 /// voxel, at that voxel's centre (searched in growing cubes around the vertex, up to `reach`
-/// voxels), lifted to [60, 255] so that shading still shows on near-black colours; reinforcement
-/// and enlarged thin-feature voxels blue and green instead.
+/// voxels); reinforcement and enlarged thin-feature voxels reinforcement_colour and
+/// thin_feature_colour instead; {200, 200, 205} where no solid voxel is in reach.
 inline std::vector<std::array<std::uint8_t, 3>> preview_colours(const triangle_mesh& m, const synthesizer& syn, const synthesis_result& r, int reach,
                                                                  const std::vector<std::uint8_t>& state, bool exemplar_colours) {
     const shell_level& lv = syn.pyramid().levels[0];
@@ -213,13 +220,12 @@ inline std::vector<std::array<std::uint8_t, 3>> preview_colours(const triangle_m
                     }
             if (bv >= 0) {
                 const auto st = static_cast<voxel_state>(state[static_cast<std::size_t>(bv)]);
-                if (st == voxel_state::reinforcement) return void(out[i] = {70, 110, 235});
-                if (st == voxel_state::thin_feature) return void(out[i] = {80, 190, 90});
+                if (st == voxel_state::reinforcement) return void(out[i] = reinforcement_colour);
+                if (st == voxel_state::thin_feature) return void(out[i] = thin_feature_colour);
                 if (!exemplar_colours) return;
                 // the colour at the voxel centre (inside the solid), not at the vertex on its border
                 const vec2 p = syn.labels().map(lv.center(static_cast<std::size_t>(bv)), r.labels[0][static_cast<std::size_t>(bv)]);
-                const std::array<std::uint8_t, 3> col = syn.source().colour_at(p.x, p.y);
-                for (std::size_t k = 0; k < 3; ++k) out[i][k] = static_cast<std::uint8_t>(60 + col[k] * 195 / 255);
+                out[i] = syn.source().colour_at(p.x, p.y);
                 return;
             }
         }
@@ -348,21 +354,25 @@ template <progress_callback P = no_progress>
         out.seconds.validation = since(t);
     }
 
-    // 7. preview
+    // 7. colours and preview
+    t = clock::now();
+    if (exemplar_colours || opt.structure)
+        out.vertex_colours = detail::preview_colours(out.mesh, syn, result, static_cast<int>(std::ceil(opt.thickness_mm / h)) + 2, out.state, exemplar_colours);
     if (opt.preview) {
         report_progress(progress, 0.85, "preview");
-        t = clock::now();
-        std::vector<std::array<std::uint8_t, 3>> colours;
-        if (exemplar_colours || opt.structure)
-            colours = detail::preview_colours(out.mesh, syn, result, static_cast<int>(std::ceil(opt.thickness_mm / h)) + 2, out.state, exemplar_colours);
+        // exemplar colours lifted to [60, 255] so that shading still shows on near-black ones
+        std::vector<std::array<std::uint8_t, 3>> colours = out.vertex_colours;
+        for (auto& c : colours)
+            if (c != detail::reinforcement_colour && c != detail::thin_feature_colour)
+                for (auto& k : c) k = static_cast<std::uint8_t>(60 + k * 195 / 255);
         const vec3 up = opt.synthesis.up;
         const render_view view{.direction = glm::length(up) > 0 && std::abs(up.y) < 0.9 * glm::length(up) ? vec3(0, 1, 0) : vec3(0, 0, -1),
                                .up = glm::length(up) > 0 ? up : vec3(0, 0, 1)};
         const int side = opt.preview_size;
         const render_options look{.width = side, .height = side};
         out.preview = out.mesh.empty() ? image8(2 * side + look.gap, side, 3, 255) : render_two_sides(out.mesh, view, look, colours);
-        out.seconds.preview = since(t);
     }
+    out.seconds.preview = since(t);
     out.seconds.total = since(t_start);
     report_progress(progress, 1.0, "done");
     return out;

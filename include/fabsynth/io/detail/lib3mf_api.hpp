@@ -34,7 +34,17 @@ struct triangle {
 struct transform {
     float fields[3][4];  // rows of [R | t]
 };
+struct colour {  // MODELMESHCOLOR_SRGB
+    unsigned char red, green, blue, alpha;
+};
+struct triangle_colour {  // MODELMESH_TRIANGLECOLOR_SRGB: one colour per corner
+    colour corners[3];
+};
 static_assert(sizeof(vertex) == 12 && sizeof(triangle) == 12 && sizeof(transform) == 48);
+static_assert(sizeof(colour) == 4 && sizeof(triangle_colour) == 12);
+
+/// lib3mf's property type of a triangle (eModelPropertyType, an int-sized enum).
+inline constexpr dword property_none = 0, property_colour = 2;
 
 /// lib3mf's unit ids (eModelUnit).
 inline constexpr dword unit_micrometer = 0, unit_millimeter = 1, unit_centimeter = 2, unit_inch = 3, unit_foot = 4,
@@ -76,5 +86,16 @@ result meshobject_gettriangleindices(handle mesh, triangle* out, dword buffer_si
     __asm__("lib3mf_meshobject_gettriangleindices");
 result meshobject_setgeometry(handle mesh, vertex* vertices, dword vertex_count, triangle* triangles, dword triangle_count)
     __asm__("lib3mf_meshobject_setgeometry");
+
+// per-triangle properties (colours) of a mesh object
+result meshobject_createpropertyhandler(handle mesh, handle* handler) __asm__("lib3mf_meshobject_createpropertyhandler");
+result propertyhandler_setsinglecolorrgb(handle handler, dword triangle, unsigned char red, unsigned char green, unsigned char blue)
+    __asm__("lib3mf_propertyhandler_setsinglecolorrgb");
+result propertyhandler_getpropertytype(handle handler, dword triangle, dword* type) __asm__("lib3mf_propertyhandler_getpropertytype");
+result propertyhandler_getcolor(handle handler, dword triangle, triangle_colour* colour) __asm__("lib3mf_propertyhandler_getcolor");
+// the object's default property (lib3mf requires one when triangles have properties)
+result object_createdefaultpropertyhandler(handle object, handle* handler) __asm__("lib3mf_object_createdefaultpropertyhandler");
+result defaultpropertyhandler_setcolorrgb(handle handler, unsigned char red, unsigned char green, unsigned char blue)
+    __asm__("lib3mf_defaultpropertyhandler_setcolorrgb");
 
 }  // namespace fabsynth::io::detail::lib3mf
